@@ -1,0 +1,37 @@
+"""jaxskip: a differentiable, batched stone-skipping simulator in JAX.
+
+A rigid triangle-mesh stone gets lift and friction from the water on each
+triangle, in proportion to the triangle's immersed area found by clipping it
+against the water surface (Do, Lee & Ryu, "Real-time Simulation of Stone
+Skipping"); Bocquet's (2003) per-face law is the calibrated default. The step
+is a pure JAX function, scanned over time, vmapped over throws and
+differentiable end to end.
+
+Units are SI throughout (m, s, kg, rad); degrees and rev/s appear only at the
+edges (:meth:`Throw.from_degrees`, the CLI).
+
+Quick start
+-----------
+>>> from jaxskip import Throw, simulate
+>>> result = simulate(Throw.from_degrees(speed=7.0, tilt=20.0, attack=5.0, spin=20.0))
+>>> result.bounces >= 1
+True
+"""
+
+from ._checks import ParameterError
+from .api import Contact, ThrowResult, resolve_stone, simulate
+from .body import RigidStone, rigid_stone
+from .forces import ForceModel, WaterParams, water_params
+from .mesh import MassProperties, MeshError, TriMesh, mass_properties, read_obj, validate_mesh, write_obj
+from .simulate import OUTCOMES, Record, SimConfig, StoneState, Tracker, initial_state, make_step, rollout, rollout_jit
+from .stones import BUILTIN_STONES, clanet_disk, disk, ellipsoid_pebble, irregular_pebble, load_stone, paper_stone
+from .throw import Throw
+
+__all__ = [
+    "BUILTIN_STONES", "Contact", "ForceModel", "MassProperties", "MeshError", "OUTCOMES", "ParameterError",
+    "Record", "RigidStone", "SimConfig", "StoneState", "Throw", "ThrowResult", "Tracker", "TriMesh", "WaterParams",
+    "clanet_disk", "disk", "ellipsoid_pebble", "initial_state", "irregular_pebble", "load_stone", "make_step",
+    "mass_properties", "paper_stone", "read_obj", "resolve_stone", "rigid_stone", "rollout", "rollout_jit",
+    "simulate", "validate_mesh", "water_params", "write_obj",
+]
+__version__ = "0.1.0"

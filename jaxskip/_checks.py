@@ -1,0 +1,80 @@
+"""Input validation run on concrete Python values *before* any JAX tracing.
+
+Every public entry point calls these, so a bad value is reported with the
+parameter's name, its unit and the valid range instead of surfacing later as a
+NaN or as an XLA error.
+"""
+
+from __future__ import annotations
+
+import math
+import numbers
+
+
+class ParameterError(ValueError):
+    """A parameter is outside its valid range (the message names it)."""
+
+
+def _as_float(name: str, value) -> float:
+    if isinstance(value, bool) or not isinstance(value, numbers.Real):
+        try:
+            value = float(value)  # numpy scalars, 0-d arrays
+        except (TypeError, ValueError):
+            raise ParameterError(f"{name} must be a real number, got {value!r}") from None
+    value = float(value)
+    if not math.isfinite(value):
+        raise ParameterError(f"{name} must be finite, got {value!r}")
+    return value
+
+
+def check_real(name: str, value, *, unit: str = "") -> float:
+    """Return ``value`` as a finite float or raise :class:`ParameterError`."""
+    return _as_float(name, value)
+
+
+def check_positive(name: str, value, *, unit: str = "") -> float:
+    """Return ``value`` as a finite float > 0 or raise :class:`ParameterError`."""
+    v = _as_float(name, value)
+    if v <= 0.0:
+        raise ParameterError(f"{name} must be > 0{(' ' + unit) if unit else ''}, got {v!r}")
+    return v
+
+
+def check_range(
+    name: str,
+    value,
+    low: float,
+    high: float,
+    *,
+    unit: str = "",
+    low_open: bool = False,
+    high_open: bool = False,
+) -> float:
+    """Return ``value`` as a finite float inside ``[low, high]`` (ends optionally open)."""
+    v = _as_float(name, value)
+    too_low = v <= low if low_open else v < low
+    too_high = v >= high if high_open else v > high
+    if too_low or too_high:
+        lo = "(" if low_open else "["
+        hi = ")" if high_open else "]"
+        u = f" {unit}" if unit else ""
+        raise ParameterError(f"{name} must be in {lo}{low:g}, {high:g}{hi}{u}, got {v!r}")
+    return v
+
+
+def check_int(name: str, value, *, minimum: int = 1, maximum: int | None = None) -> int:
+    """Return ``value`` as an int in ``[minimum, maximum]`` or raise :class:`ParameterError`."""
+    if isinstance(value, bool) or not isinstance(value, numbers.Integral):
+        raise ParameterError(f"{name} must be an integer, got {value!r}")
+    v = int(value)
+    if v < minimum or (maximum is not None and v > maximum):
+        top = "" if maximum is None else f", {maximum}"
+        raise ParameterError(f"{name} must be an integer in [{minimum}{top}], got {v}")
+    return v
+
+
+def check_choice(name: str, value, choices) -> str:
+    """Return ``value`` if it is one of ``choices`` or raise :class:`ParameterError`."""
+    if value not in choices:
+        raise ParameterError(f"{name} must be one of {', '.join(map(repr, choices))}; got {value!r}")
+    return value

@@ -1,0 +1,240 @@
+"""High-level entry point: simulate one throw and get plain Python/NumPy results.
+
+:func:`simulate` validates everything before any tracing, runs the compiled
+step in chunks (stopping as soon as the stone is out of play, so a short throw
+costs only its own steps), and returns a :class:`ThrowResult` of host values.
+For batches and gradients use the pure :func:`jaxskip.simulate.rollout`.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import functools
+import math
+import os
+import sys
+import time
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+
+from ._checks import ParameterError, check_int, check_positive
+from .body import RigidStone, rigid_stone
+from .forces import WaterParams, water_params
+from .mesh import MeshError, TriMesh
+from .simulate import OUTCOMES, STEP_LIMIT, SimConfig, _new_tracker, _scan, initial_state, make_step
+from .stones import load_stone
+from .throw import Throw
+
+
+@dataclasses.dataclass(frozen=True)
+class Contact:
+    """One contact of the stone with the water."""
+
+    t_start: float
+    """Time the first triangle got wet [s]."""
+    t_end: float
+    """Time the last triangle left the water [s] (the end of the run if it never left)."""
+    x: float
+    """Downrange position of the centre of mass at the contact's start [m]."""
+    tilt_start: float
+    """Tilt (face normal to vertical) at the start [rad]."""
+    tilt_end: float
+    """Tilt at the end [rad]."""
+
+    def to_dict(self) -> dict:
+        d = dataclasses.asdict(self)
+        d["duration"] = self.t_end - self.t_start
+        d["tilt_change_deg"] = math.degrees(self.tilt_end - self.tilt_start)
+        return d
+
+
+@dataclasses.dataclass(frozen=True)
+class ThrowResult:
+    """Outcome of one simulated throw (host values, SI units)."""
+
+    bounces: int
+    """Contacts that ended with the stone leaving the water (by ``bounce_clearance``)."""
+    contacts: list
+    """List of :class:`Contact` (at most ``config.max_contacts`` are logged)."""
+    n_contacts: int
+    """All contacts begun, logged or not."""
+    distance: float
+    """Horizontal distance from release to where the stone ended [m]."""
+    outcome: str
+    """One of ``sank``, ``stopped``, ``flipped``, ``time_limit``, ``step_limit``."""
+    final_time: float
+    """Simulated time at the end [s]."""
+    steps: int
+    """Steps taken (flight jumps included)."""
+    trajectory: dict
+    """Per-step arrays: ``time`` (N,) [s], ``position`` (N, 3) [m], ``orientation`` (N, 4),
+    ``wetted_area`` (N,) [m^2], ``force`` (N, 3) [N]."""
+    throw: Throw
+    config: SimConfig
+    stone_name: str
+    mass: float
+    """Stone mass [kg]."""
+    water: WaterParams
+    wall_time: float
+    """Wall-clock time of the simulation, compile included [s]."""
+
+    def to_dict(self) -> dict:
+        """JSON-ready summary with the resolved parameters (user units alongside SI)."""
+        t = self.throw
+        f = self.config.force
+        return {
+            "bounces": self.bounces,
+            "distance": self.distance,
+            "outcome": self.outcome,
+            "final_time": self.final_time,
+            "n_contacts": self.n_contacts,
+            "steps": self.steps,
+            "contacts": [c.to_dict() for c in self.contacts],
+            "parameters": {
+                "speed": float(t.speed),
+                "tilt_deg": math.degrees(float(t.tilt)),
+                "attack_deg": math.degrees(float(t.attack)),
+                "spin_rev_s": float(t.spin) / (2 * math.pi),
+                "height": float(t.height),
+                "heading_deg": math.degrees(float(t.heading)),
+                "stone": self.stone_name,
+                "mass": self.mass,
+                "force_law": f.law,
+                "faces": f.faces,
+                "velocity": f.velocity,
+                "c_lift": float(self.water.c_lift),
+                "c_friction": float(self.water.c_friction),
+                "rho_water": float(self.water.rho_water),
+                "gravity": float(self.water.gravity),
+                "attitude": self.config.attitude,
+                "integrator": self.config.integrator,
+                "dt": self.config.dt,
+                "duration": self.config.duration,
+                "max_steps": self.config.max_steps,
+            },
+            "wall_time": self.wall_time,
+        }
+
+
+def resolve_stone(stone, *, mass=None, density=None) -> tuple[RigidStone, str]:
+    """Turn a built-in name, an ``.obj`` path, a :class:`TriMesh` or a :class:`RigidStone` into a rigid stone.
+
+    ``mass`` [kg] or ``density`` [kg/m^3] override the stone's default density.
+    """
+    if mass is not None and density is not None:
+        raise ParameterError("give mass or density, not both")
+    if isinstance(stone, RigidStone):
+        if mass is not None or density is not None:
+            raise ParameterError("mass/density cannot be changed on a ready RigidStone")
+        return stone, "custom"
+    if isinstance(stone, (str, os.PathLike)):
+        mesh, default_density = load_stone(stone)
+    elif isinstance(stone, TriMesh):
+        from .stones import STONE_DENSITY
+
+        mesh, default_density = stone, STONE_DENSITY
+    else:
+        raise ParameterError(f"stone must be a built-in name, an .obj path, a TriMesh or a RigidStone; got {stone!r}")
+    if mass is not None:
+        return rigid_stone(mesh, mass=check_positive("mass", mass, unit="kg")), mesh.name
+    d = default_density if density is None else check_positive("density", density, unit="kg/m^3")
+    return rigid_stone(mesh, density=d), mesh.name
+
+
+@functools.lru_cache(maxsize=32)
+def _chunk_runner(config: SimConfig, chunk: int):
+    """One compiled chunk of ``chunk`` steps per configuration (memoised: no recompiles)."""
+    step = make_step(config)
+    chunk_config = dataclasses.replace(config, max_steps=chunk, checkpoint=0)
+
+    @jax.jit
+    def run(carry, stone, water):
+        return _scan(chunk_config, step, carry, stone, water)
+
+    return run
+
+
+def simulate(
+    throw: Throw | None = None,
+    stone="paper",
+    *,
+    mass: float | None = None,
+    density: float | None = None,
+    water: WaterParams | None = None,
+    config: SimConfig | None = None,
+    chunk: int = 1000,
+    progress: bool = False,
+) -> ThrowResult:
+    """Simulate one throw on flat water.
+
+    Parameters
+    ----------
+    throw : :class:`Throw` (SI); default ``Throw.from_degrees()``.
+    stone : built-in name (``paper``, ``disk``, ``clanet``, ``ellipsoid``, ``pebble``),
+        a path to an ``.obj`` file [m], a :class:`TriMesh` or a :class:`RigidStone`.
+    mass, density : override the stone's default density with a mass [kg] or density [kg/m^3].
+    water : :class:`WaterParams`; default ``water_params(config.force.law)``.
+    config : :class:`SimConfig`; default ``SimConfig()``.
+    chunk : steps per compiled chunk; the run stops after the first chunk in
+        which the stone goes out of play.
+    progress : print a progress line to stderr.
+
+    Examples
+    --------
+    >>> from jaxskip import Throw, simulate
+    >>> r = simulate(Throw.from_degrees(speed=7.0, tilt=20.0, attack=5.0, spin=20.0))
+    >>> r.bounces > 0, r.outcome in ("sank", "stopped", "flipped", "time_limit", "step_limit")
+    (True, True)
+    """
+    t0 = time.perf_counter()
+    throw = Throw.from_degrees() if throw is None else throw
+    if not isinstance(throw, Throw):
+        raise ParameterError(f"throw must be a jaxskip.Throw, got {type(throw).__name__}")
+    config = SimConfig() if config is None else config
+    chunk = check_int("chunk", chunk, minimum=1)
+    water = water_params(config.force.law) if water is None else water
+    rigid, name = resolve_stone(stone, mass=mass, density=density)
+
+    run = _chunk_runner(config, chunk)
+
+    state = initial_state(throw, rigid)
+    carry = (state, _new_tracker(config.max_contacts, state.position.dtype))
+    records = []
+    done = 0
+    while done < config.max_steps:
+        carry, rec = run(carry, rigid, water)
+        records.append(jax.device_get(rec))
+        done += chunk
+        alive = bool(carry[1].alive)
+        if progress:
+            print(f"\r  simulated {float(carry[0].time):6.3f} s in {done} steps", end="", file=sys.stderr, flush=True)
+        if not alive:
+            break
+    if progress:
+        print(file=sys.stderr)
+    state, tr = jax.device_get(carry)
+    n_alive = int(np.sum([np.sum(np.diff(r.time, prepend=-1.0) > 0) for r in records]))
+    traj = {k: np.concatenate([getattr(r, k) for r in records])[:n_alive] for k in
+            ("time", "position", "orientation", "wetted_area", "force")}
+    outcome = OUTCOMES[STEP_LIMIT] if tr.alive else OUTCOMES[int(tr.outcome)]
+    end_time = float(state.time)
+    k = min(int(tr.contacts), config.max_contacts)
+    contacts = [
+        Contact(
+            t_start=float(tr.t_start[i]),
+            t_end=float(tr.t_end[i]) if np.isfinite(tr.t_end[i]) else end_time,
+            x=float(tr.x_start[i, 0]),
+            tilt_start=float(tr.tilt_start[i]),
+            tilt_end=float(tr.tilt_end[i]) if np.isfinite(tr.tilt_end[i]) else float("nan"),
+        )
+        for i in range(k)
+    ]
+    start = np.asarray(initial_state(throw, rigid).position)
+    distance = float(np.hypot(*(np.asarray(state.position)[:2] - start[:2])))
+    return ThrowResult(
+        bounces=int(tr.bounces), contacts=contacts, n_contacts=int(tr.contacts), distance=distance,
+        outcome=outcome, final_time=end_time, steps=n_alive, trajectory=traj, throw=throw, config=config,
+        stone_name=name, mass=float(rigid.mass), water=water, wall_time=time.perf_counter() - t0,
+    )

@@ -1,0 +1,515 @@
+"""Closed triangle meshes of rigid stones: validation, mass properties, OBJ I/O.
+
+Everything here is plain numpy (float64) and runs once, before a simulation;
+the differentiable part of jaxskip only consumes the resulting arrays.
+
+Conventions
+-----------
+* SI units throughout: metres [m], kilograms [kg], densities [kg/m^3],
+  moments of inertia [kg m^2].
+* A mesh is a closed, orientable (watertight) surface.  Each triangle lists its
+  vertex indices counter-clockwise as seen from *outside*, so the right-hand
+  normal ``(v1 - v0) x (v2 - v0)`` points outward and the signed volume is
+  positive.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import os
+from pathlib import Path
+
+import numpy as np
+
+__all__ = [
+    "MeshError",
+    "TriMesh",
+    "MassProperties",
+    "validate_mesh",
+    "mass_properties",
+    "read_obj",
+    "write_obj",
+]
+
+#: Largest OBJ file :func:`read_obj` agrees to read [bytes].
+MAX_OBJ_BYTES = 50 * 1024 * 1024
+
+#: A triangle counts as degenerate when its area is at most this fraction of
+#: the squared bounding-box diagonal of the mesh.
+DEGENERATE_AREA_FRACTION = 1e-12
+
+
+class MeshError(ValueError):
+    """A mesh, a mesh file or a mesh-related parameter is invalid."""
+
+
+# ---------------------------------------------------------------------------
+# small helpers
+# ---------------------------------------------------------------------------
+
+
+def _positive_scalar(value, name: str) -> float:
+    """Return ``value`` as a float, or raise MeshError unless it is finite and > 0."""
+    try:
+        x = float(value)
+    except (TypeError, ValueError):
+        raise MeshError(f"{name} must be a positive finite number, got {value!r}") from None
+    if not (math.isfinite(x) and x > 0.0):
+        raise MeshError(f"{name} must be a positive finite number, got {value!r}")
+    return x
+
+
+def _as_vertices(vertices, name: str) -> np.ndarray:
+    """Convert to a float64 (V, 3) array, raising MeshError on wrong dtype/shape."""
+    arr = np.asarray(vertices)
+    if arr.dtype.kind not in "fiu":
+        raise MeshError(f"{name}: vertices must be real numbers, got dtype {arr.dtype}")
+    if arr.ndim != 2 or arr.shape[1] != 3:
+        raise MeshError(f"{name}: vertices must have shape (V, 3), got {arr.shape}")
+    return arr.astype(np.float64)
+
+
+def _as_faces(faces, name: str) -> np.ndarray:
+    """Convert to an int64 (F, 3) array, raising MeshError on wrong dtype/shape."""
+    arr = np.asarray(faces)
+    if arr.size and arr.dtype.kind not in "iu":
+        raise MeshError(f"{name}: faces must be integer vertex indices, got dtype {arr.dtype}")
+    if arr.ndim != 2 or arr.shape[1] != 3:
+        raise MeshError(f"{name}: faces must have shape (F, 3), got {arr.shape}")
+    return arr.astype(np.int64)
+
+
+def _readonly(arr: np.ndarray) -> np.ndarray:
+    arr = np.array(arr)  # private copy, so the caller cannot mutate it behind our back
+    arr.setflags(write=False)
+    return arr
+
+
+def _triangle_cross(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
+    """Right-hand cross products ``(v1 - v0) x (v2 - v0)``, shape (F, 3) [m^2]."""
+    tri = vertices[faces]
+    return np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
+
+
+def _signed_volume(vertices: np.ndarray, faces: np.ndarray) -> float:
+    """Enclosed volume by the divergence theorem [m^3].
+
+    ``V = (1/6) sum_f (a_f - p) . ((b_f - p) x (c_f - p))`` for any reference
+    point ``p`` (here the vertex mean, to limit cancellation).
+    """
+    rel = vertices - vertices.mean(axis=0)
+    tri = rel[faces]
+    return float(np.einsum("ij,ij->", tri[:, 0], np.cross(tri[:, 1], tri[:, 2])) / 6.0)
+
+
+# ---------------------------------------------------------------------------
+# TriMesh
+# ---------------------------------------------------------------------------
+
+
+@dataclasses.dataclass(frozen=True, eq=False)
+class TriMesh:
+    """An immutable triangle mesh of a closed surface.
+
+    The arrays are stored as read-only copies.  The constructor only checks
+    shapes and dtypes; call :func:`validate_mesh` to check that the surface is
+    closed, manifold and outward oriented.  Meshes compare by identity.
+    """
+
+    vertices: np.ndarray
+    """Vertex positions, shape (V, 3), float64 [m]."""
+
+    faces: np.ndarray
+    """Vertex indices of each triangle, shape (F, 3), int64, counter-clockwise
+    as seen from outside (right-hand normals point outward)."""
+
+    name: str = "mesh"
+    """Human-readable name used in error messages."""
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "vertices", _readonly(_as_vertices(self.vertices, self.name)))
+        object.__setattr__(self, "faces", _readonly(_as_faces(self.faces, self.name)))
+
+    @property
+    def n_triangles(self) -> int:
+        """Number of triangles F."""
+        return int(self.faces.shape[0])
+
+    @property
+    def triangles(self) -> np.ndarray:
+        """Vertex coordinates of every triangle, shape (F, 3, 3) [m]."""
+        return self.vertices[self.faces]
+
+    @property
+    def normals(self) -> np.ndarray:
+        """Unit outward normals ``n = (v1 - v0) x (v2 - v0) / |...|``, shape (F, 3)."""
+        cross = _triangle_cross(self.vertices, self.faces)
+        return cross / np.linalg.norm(cross, axis=1, keepdims=True)
+
+    @property
+    def areas(self) -> np.ndarray:
+        """Triangle areas ``|(v1 - v0) x (v2 - v0)| / 2``, shape (F,) [m^2]."""
+        return 0.5 * np.linalg.norm(_triangle_cross(self.vertices, self.faces), axis=1)
+
+    def translated(self, offset) -> "TriMesh":
+        """Return the mesh moved by ``offset``, shape (3,) [m]."""
+        offset = np.asarray(offset, dtype=np.float64)
+        if offset.shape != (3,) or not np.all(np.isfinite(offset)):
+            raise MeshError(f"offset must be 3 finite numbers [m], got {offset!r}")
+        return TriMesh(self.vertices + offset, self.faces, self.name)
+
+    def scaled(self, factor) -> "TriMesh":
+        """Return the mesh scaled about the origin.
+
+        Parameters
+        ----------
+        factor : float or array_like, shape (3,)
+            Positive finite scale factor(s), dimensionless; a (3,) array scales
+            x, y, z separately.  Positive factors keep the outward orientation.
+        """
+        f = np.asarray(factor, dtype=np.float64)
+        if f.shape not in ((), (3,)) or not np.all(np.isfinite(f)) or not np.all(f > 0):
+            raise MeshError(f"factor must be a positive finite number or 3 of them, got {factor!r}")
+        return TriMesh(self.vertices * f, self.faces, self.name)
+
+    def rotated(self, rotation) -> "TriMesh":
+        """Return the mesh rotated about the origin: ``v' = R v``.
+
+        Parameters
+        ----------
+        rotation : array_like, shape (3, 3)
+            Proper rotation matrix R (``R R^T = 1``, ``det R = +1``, to 1e-9);
+            reflections are refused since they would turn the mesh inside out.
+        """
+        r = np.asarray(rotation, dtype=np.float64)
+        if (
+            r.shape != (3, 3)
+            or not np.allclose(r @ r.T, np.eye(3), rtol=0.0, atol=1e-9)
+            or not np.linalg.det(r) > 0
+        ):
+            raise MeshError("rotation must be a 3x3 proper rotation matrix (R R^T = I, det R = +1)")
+        return TriMesh(self.vertices @ r.T, self.faces, self.name)
+
+
+# ---------------------------------------------------------------------------
+# validation
+# ---------------------------------------------------------------------------
+
+
+def validate_mesh(vertices, faces, *, name: str = "mesh") -> None:
+    """Check that ``(vertices, faces)`` is a closed, outward-oriented triangle mesh.
+
+    Parameters
+    ----------
+    vertices : array_like, shape (V, 3)
+        Vertex positions [m], finite real numbers.
+    faces : array_like, shape (F, 3)
+        Integer vertex indices in ``[0, V)``.
+    name : str
+        Name used in error messages (e.g. a file name).
+
+    Raises
+    ------
+    MeshError
+        On the first problem found, in this order: shapes/dtypes; non-finite
+        vertices; indices out of range; triangles with a repeated index;
+        degenerate triangles (area ``<= 1e-12 * d**2`` with ``d`` the
+        bounding-box diagonal); edges not shared by exactly two triangles
+        (holes or non-manifold edges); inconsistent orientation (a directed
+        edge used twice); non-positive signed volume (inside-out mesh).
+
+    Notes
+    -----
+    A closed, consistently oriented surface uses each directed edge ``(a, b)``
+    exactly once and its reverse ``(b, a)`` exactly once.  The signed volume
+    follows from the divergence theorem,
+    ``V = (1/6) sum_f v0 . (v1 x v2)``, and is positive iff the normals point
+    outward.
+    """
+    v = _as_vertices(vertices, name)
+    f = _as_faces(faces, name)
+    n_v, n_f = len(v), len(f)
+    if n_f < 4:
+        raise MeshError(f"{name}: a closed mesh needs at least 4 triangles, got {n_f}")
+
+    bad = np.flatnonzero(~np.all(np.isfinite(v), axis=1))
+    if bad.size:
+        raise MeshError(f"{name}: vertex {bad[0]} is not finite ({v[bad[0]].tolist()}); "
+                        "all coordinates must be finite numbers")
+
+    bad = np.flatnonzero(np.any((f < 0) | (f >= n_v), axis=1))
+    if bad.size:
+        raise MeshError(f"{name}: triangle {bad[0]} has vertex index out of range "
+                        f"{f[bad[0]].tolist()}; indices must lie in [0, {n_v - 1}]")
+
+    bad = np.flatnonzero((f[:, 0] == f[:, 1]) | (f[:, 1] == f[:, 2]) | (f[:, 2] == f[:, 0]))
+    if bad.size:
+        raise MeshError(f"{name}: triangle {bad[0]} repeats a vertex index {f[bad[0]].tolist()}; "
+                        "remove this degenerate triangle")
+
+    diag2 = float(np.sum(np.ptp(v, axis=0) ** 2))
+    areas = 0.5 * np.linalg.norm(_triangle_cross(v, f), axis=1)
+    bad = np.flatnonzero(areas <= DEGENERATE_AREA_FRACTION * diag2)
+    if bad.size:
+        raise MeshError(f"{name}: triangle {bad[0]} {f[bad[0]].tolist()} is degenerate "
+                        f"(area {areas[bad[0]]:.3g} m^2); remove it or fix its vertices")
+
+    _check_edges(f, n_v, name)
+
+    volume = _signed_volume(v, f)
+    if not volume > 0.0:
+        raise MeshError(f"{name}: signed volume is {volume:.6g} m^3 <= 0, so the faces point "
+                        "inward; reverse the vertex order of every triangle")
+
+
+def _check_edges(faces: np.ndarray, n_vertices: int, name: str) -> None:
+    """Raise MeshError unless every directed edge occurs once, together with its reverse."""
+    heads = faces.reshape(-1)
+    tails = np.roll(faces, -1, axis=1).reshape(-1)  # directed edges (f0,f1), (f1,f2), (f2,f0)
+    edge_triangle = np.repeat(np.arange(len(faces)), 3)
+
+    def describe(edge_keys: np.ndarray, key: int) -> str:
+        a, b = divmod(int(key), n_vertices)
+        return f"edge ({a}, {b}) of triangles {edge_triangle[edge_keys == key].tolist()}"
+
+    undirected = np.minimum(heads, tails) * n_vertices + np.maximum(heads, tails)
+    keys, counts = np.unique(undirected, return_counts=True)
+    if np.any(counts == 1):
+        raise MeshError(f"{name}: {describe(undirected, keys[counts == 1][0])} belongs to only "
+                        "one triangle: the mesh has a hole (it is not closed); add the missing "
+                        "triangles")
+    if np.any(counts > 2):
+        raise MeshError(f"{name}: {describe(undirected, keys[counts > 2][0])} is shared by more "
+                        "than two triangles: the mesh is not manifold; split it into separate "
+                        "closed meshes")
+
+    directed = heads * n_vertices + tails
+    keys, counts = np.unique(directed, return_counts=True)
+    if np.any(counts > 1):
+        raise MeshError(f"{name}: {describe(directed, keys[counts > 1][0])} runs in the same "
+                        "direction in both: inconsistent orientation; flip one of them so all "
+                        "triangles are counter-clockwise seen from outside")
+
+
+# ---------------------------------------------------------------------------
+# mass properties
+# ---------------------------------------------------------------------------
+
+
+@dataclasses.dataclass(frozen=True, eq=False)
+class MassProperties:
+    """Rigid-body mass properties of a uniform solid."""
+
+    mass: float
+    """Total mass m [kg]."""
+
+    volume: float
+    """Enclosed volume [m^3]."""
+
+    center_of_mass: np.ndarray
+    """Centre of mass in the mesh frame, shape (3,) [m]."""
+
+    inertia: np.ndarray
+    """Inertia tensor about the centre of mass, axes of the mesh frame,
+    shape (3, 3), symmetric positive definite [kg m^2]."""
+
+    def __post_init__(self) -> None:
+        for field in ("center_of_mass", "inertia"):
+            object.__setattr__(self, field, _readonly(np.asarray(getattr(self, field), float)))
+
+
+def mass_properties(mesh: TriMesh, *, density: float | None = None,
+                    mass: float | None = None) -> MassProperties:
+    """Exact mass properties of a uniform solid bounded by a closed mesh.
+
+    Parameters
+    ----------
+    mesh : TriMesh
+        Closed, outward-oriented mesh (see :func:`validate_mesh`), vertices [m].
+    density : float, optional
+        Uniform density rho [kg/m^3].
+    mass : float, optional
+        Total mass [kg]; then ``rho = mass / volume``.  Give exactly one of
+        ``density`` and ``mass``.
+
+    Returns
+    -------
+    MassProperties
+        Mass [kg], volume [m^3], centre of mass (3,) [m] and inertia tensor
+        (3, 3) about the centre of mass [kg m^2].
+
+    Notes
+    -----
+    The solid is split into signed tetrahedra ``(p, a, b, c)``, one per
+    triangle, with apex ``p`` at the vertex mean (any apex is exact; a central
+    one limits cancellation).  With ``a, b, c`` relative to ``p``,
+    ``d = a . (b x c)`` and ``s = a + b + c``:
+
+    * volume        ``V = sum d / 6``
+    * first moment  ``S = sum d s / 24``  (so the centroid is ``p + S / V``)
+    * second moment ``C = int x x^T dV = sum d (a a^T + b b^T + c c^T + s s^T) / 120``
+
+    (the closed form of the tetrahedron covariance; F. Tonon, J. Math. Stat.
+    1(1):8-11, 2004; J. Blow & A. Binstock, "How to find the inertia tensor
+    (or other mass properties) of a 3D solid body represented by a triangle
+    mesh", 2004).  The parallel-axis theorem moves ``C`` to the centroid ``c``:
+    ``C_c = C - V c c^T``, and the inertia tensor is
+    ``I = rho (tr(C_c) 1 - C_c)``.  The result is exact up to rounding for any
+    closed mesh.
+    """
+    if (density is None) == (mass is None):
+        raise MeshError("give exactly one of density [kg/m^3] or mass [kg]")
+    if density is not None:
+        density = _positive_scalar(density, "density [kg/m^3]")
+    else:
+        mass = _positive_scalar(mass, "mass [kg]")
+    origin = mesh.vertices.mean(axis=0)
+    tri = mesh.triangles - origin
+    a, b, c = tri[:, 0], tri[:, 1], tri[:, 2]
+    d = np.einsum("ij,ij->i", a, np.cross(b, c))
+    s = a + b + c
+
+    volume = float(d.sum() / 6.0)
+    if not volume > 0.0:
+        raise MeshError(f"{mesh.name}: signed volume is {volume:.6g} m^3 <= 0; the mesh must be "
+                        "closed with outward normals (run validate_mesh)")
+    centroid = (d @ s) / 24.0 / volume
+    second = (np.einsum("i,ij,ik->jk", d, a, a) + np.einsum("i,ij,ik->jk", d, b, b)
+              + np.einsum("i,ij,ik->jk", d, c, c) + np.einsum("i,ij,ik->jk", d, s, s)) / 120.0
+    second_c = second - volume * np.outer(centroid, centroid)
+
+    rho = density if density is not None else mass / volume
+    inertia = rho * (np.trace(second_c) * np.eye(3) - second_c)
+    inertia = 0.5 * (inertia + inertia.T)
+    return MassProperties(mass=rho * volume, volume=volume,
+                          center_of_mass=origin + centroid, inertia=inertia)
+
+
+# ---------------------------------------------------------------------------
+# OBJ input/output
+# ---------------------------------------------------------------------------
+
+_IGNORED_OBJ_KEYWORDS = frozenset({"vn", "vt", "o", "g", "s", "usemtl", "mtllib"})
+
+
+def _obj_vertex(fields: list[str]) -> list[float]:
+    """Parse the fields of ``v x y z [w]`` into ``[x, y, z]``; ValueError if malformed."""
+    if len(fields) not in (3, 4):
+        raise ValueError("a vertex needs 3 coordinates (and optionally w)")
+    try:
+        xyz = [float(t) for t in fields]
+    except ValueError:
+        raise ValueError("vertex coordinates must be numbers") from None
+    if not all(math.isfinite(x) for x in xyz):
+        raise ValueError("vertex coordinates must be finite")
+    return xyz[:3]
+
+
+def _obj_face(fields: list[str], n_vertices: int) -> list[int]:
+    """Parse the fields of ``f ...`` into 0-based vertex indices; ValueError if malformed.
+
+    Each field is ``i``, ``i/t``, ``i/t/n`` or ``i//n``; only ``i`` is used.
+    Index ``i > 0`` means vertex ``i - 1``; ``i < 0`` means ``n_vertices + i``
+    (counting back from the last vertex defined so far).
+    """
+    if len(fields) < 3:
+        raise ValueError("a face needs at least 3 vertices")
+    indices = []
+    for field in fields:
+        try:
+            i = int(field.split("/", 1)[0])
+        except ValueError:
+            raise ValueError(f"bad face entry {field!r} (expected i, i/t, i/t/n or i//n)") from None
+        k = i - 1 if i > 0 else n_vertices + i
+        if i == 0 or not 0 <= k < n_vertices:
+            raise ValueError(f"vertex index {i} does not refer to one of the {n_vertices} "
+                             "vertices defined so far")
+        indices.append(k)
+    return indices
+
+
+def read_obj(path: str | os.PathLike, *, name: str | None = None) -> TriMesh:
+    """Read a closed triangle mesh from a Wavefront OBJ file.
+
+    Only geometry is read: ``v x y z [w]`` (``w`` is ignored) and
+    ``f i j k ...`` lines whose entries may be ``i``, ``i/t``, ``i/t/n`` or
+    ``i//n``; indices are 1-based, negative ones count back from the last
+    vertex defined so far.  Polygons with more than 3 vertices are
+    fan-triangulated ``(0, k, k+1)``.  Lines starting with ``vn vt o g s
+    usemtl mtllib``, comments (``#``) and blank lines are ignored; anything
+    else is an error.  Nothing is ever evaluated.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        File to read; at most 50 MB.  Coordinates are taken as metres.
+    name : str, optional
+        Mesh name; defaults to the file name without extension.
+
+    Returns
+    -------
+    TriMesh
+        The mesh, checked with :func:`validate_mesh`.
+
+    Raises
+    ------
+    MeshError
+        If the file is missing, too large, not UTF-8 text, has a malformed
+        line (the message gives file and line number) or is not a valid mesh.
+    """
+    path = Path(path)
+    fname = path.name
+    try:
+        size = path.stat().st_size
+    except OSError as err:
+        raise MeshError(f"cannot read OBJ file {str(path)!r}: {err.strerror}") from None
+    if size > MAX_OBJ_BYTES:
+        raise MeshError(f"OBJ file {str(path)!r} is {size} bytes; at most {MAX_OBJ_BYTES} "
+                        "(50 MB) are accepted")
+    try:
+        text = path.read_text(encoding="utf-8-sig")
+    except (OSError, UnicodeDecodeError) as err:
+        raise MeshError(f"cannot read OBJ file {str(path)!r}: {err}") from None
+
+    vertices: list[list[float]] = []
+    faces: list[tuple[int, int, int]] = []
+    for lineno, line in enumerate(text.splitlines(), start=1):
+        tokens = line.split("#", 1)[0].split()
+        try:
+            if not tokens or tokens[0] in _IGNORED_OBJ_KEYWORDS:
+                continue
+            if tokens[0] == "v":
+                vertices.append(_obj_vertex(tokens[1:]))
+            elif tokens[0] == "f":
+                idx = _obj_face(tokens[1:], len(vertices))
+                faces.extend((idx[0], idx[k], idx[k + 1]) for k in range(1, len(idx) - 1))
+            else:
+                raise ValueError(f"unsupported statement {tokens[0]!r}")
+        except ValueError as err:
+            raise MeshError(f"{fname}, line {lineno}: {err}: {line.strip()!r}") from None
+
+    v = np.array(vertices, dtype=np.float64).reshape(-1, 3)
+    f = np.array(faces, dtype=np.int64).reshape(-1, 3)
+    validate_mesh(v, f, name=fname)
+    return TriMesh(v, f, name if name is not None else path.stem)
+
+
+def write_obj(path: str | os.PathLike, mesh: TriMesh) -> None:
+    """Write a mesh as a Wavefront OBJ file (``v`` and ``f`` lines only).
+
+    Coordinates [m] are written with ``repr`` (shortest exact decimal), so
+    ``read_obj(write_obj(...))`` reproduces vertices and faces bit for bit.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        Destination file (overwritten).
+    mesh : TriMesh
+        Mesh to write; faces become 1-based indices.
+    """
+    title = " ".join(mesh.name.split())  # keep the comment on one line
+    lines = [f"# {title}: {len(mesh.vertices)} vertices, {mesh.n_triangles} triangles, metres"]
+    lines += [f"v {float(x)!r} {float(y)!r} {float(z)!r}" for x, y, z in mesh.vertices]
+    lines += [f"f {a + 1} {b + 1} {c + 1}" for a, b, c in mesh.faces.tolist()]
+    Path(path).write_text("\n".join(lines) + "\n", encoding="utf-8")

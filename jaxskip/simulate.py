@@ -1,0 +1,435 @@
+r"""The pure step and the scanned rollout.
+
+Time stepping ("model no more than the scene needs")
+----------------------------------------------------
+Air time is about a hundred times contact time, so flights are not spent in
+fine steps. Each step first measures the gap :math:`\delta` between the
+stone's lowest vertex and the water. No point of the stone can close the gap
+faster than :math:`v_z - |\omega| R` (with :math:`R` the stone's bounding
+radius) while gravity pulls at :math:`g`, so contact cannot begin before
+
+.. math:: t^* = \frac{b + \sqrt{b^2 + 2 g \delta}}{g}, \qquad b = v_z - |\omega| R .
+
+The step length is :math:`\mathrm{clip}(t^*, \Delta t, \Delta t_{\max})`:
+a conservative-advancement jump through the air (``max_flight_step``
+bounds it so the free rotation stays accurate), and the fine ``dt`` as soon
+as the stone is within one step of the water or in it. Both integrators
+integrate gravity exactly, so a jump follows the exact parabola. A flight
+then costs about a dozen steps, a contact ``contact_time / dt``.
+
+Integrators
+-----------
+``"euler"``: semi-implicit (symplectic) Euler on the water force, with
+gravity integrated exactly; angular momentum is the integrated variable and
+the attitude is advanced by the exponential map. ``"rk4"``: classical
+Runge–Kutta on position, velocity, quaternion and angular momentum.
+
+``attitude="fixed"`` holds the attitude (Bocquet's and Clanet's high-spin
+limit): 3 degrees of freedom, no torque, and the water sees only the
+centre-of-mass velocity.
+
+Everything here is a pure function of pytrees; the rollout is a fixed-length
+``lax.scan`` with an ``alive`` mask (no ``while_loop``), so it can be jitted,
+vmapped over throws and differentiated in reverse mode.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+
+import jax
+import jax.numpy as jnp
+
+from . import quaternion as quat
+from ._checks import check_choice, check_int, check_positive, check_range
+from .body import RigidStone
+from .forces import ForceModel, WaterParams, water_force
+from .throw import Throw, attitude
+
+INTEGRATORS = ("euler", "rk4")
+ATTITUDES = ("free", "fixed")
+FLIGHTS = ("jump", "step")
+
+# Outcome codes of a rollout.
+RUNNING, SANK, STOPPED, FLIPPED, TIME_LIMIT, STEP_LIMIT = 0, 1, 2, 3, 4, 5
+OUTCOMES = ("running", "sank", "stopped", "flipped", "time_limit", "step_limit")
+
+# Contact phases.
+AIR, WET, LEAVING = 0, 1, 2
+
+
+@dataclasses.dataclass(frozen=True)
+class SimConfig:
+    """Static simulation settings (hashable; a change recompiles, a new throw does not)."""
+
+    dt: float = 2.5e-4
+    """Time step in and near the water [s]."""
+    duration: float = 5.0
+    """Simulated time limit [s]."""
+    max_steps: int = 12000
+    """Scan length: steps available for contacts and flights (outcome ``step_limit`` if too few)."""
+    integrator: str = "euler"
+    """``"euler"`` (semi-implicit, gravity exact) or ``"rk4"``."""
+    attitude: str = "free"
+    """``"free"`` (6-DoF with gyroscopic torques) or ``"fixed"`` (tilt held; high-spin limit)."""
+    flight: str = "jump"
+    """``"jump"``: conservative-advancement steps through the air; ``"step"``: fixed ``dt`` everywhere."""
+    max_flight_step: float = 0.02
+    """Longest step through the air [s] (bounds the free-rotation error of a jump)."""
+    force: ForceModel = ForceModel()
+    """The water-force model (law, loaded faces, velocity, lift normalisation, smoothing)."""
+    max_contacts: int = 64
+    """Contacts logged in detail (more are still counted)."""
+    bounce_clearance: float = 1e-3
+    """A contact ends in a bounce once the lowest point is this far above the water [m]."""
+    stop_speed: float = 0.05
+    """Below this speed [m/s] in the water the stone counts as stopped."""
+    record: bool = True
+    """Return per-step records (time, position, attitude, wetted area); off for big batches."""
+    checkpoint: int = 0
+    """0: plain scan. k > 0: nested scan with ``jax.checkpoint`` on segments of k steps
+    (``max_steps`` must divide by k); memory ~ (max_steps/k + k) states in reverse mode."""
+
+    def __post_init__(self):
+        check_range("dt", self.dt, 0.0, 0.01, unit="s", low_open=True)
+        check_positive("duration", self.duration, unit="s")
+        check_int("max_steps", self.max_steps, minimum=1, maximum=10_000_000)
+        check_choice("integrator", self.integrator, INTEGRATORS)
+        check_choice("attitude", self.attitude, ATTITUDES)
+        check_choice("flight", self.flight, FLIGHTS)
+        check_positive("max_flight_step", self.max_flight_step, unit="s")
+        check_int("max_contacts", self.max_contacts, minimum=1, maximum=100_000)
+        check_positive("bounce_clearance", self.bounce_clearance, unit="m")
+        check_positive("stop_speed", self.stop_speed, unit="m/s")
+        check_int("checkpoint", self.checkpoint, minimum=0)
+        if not isinstance(self.force, ForceModel):
+            raise TypeError("force must be a jaxskip.forces.ForceModel")
+        if self.checkpoint and self.max_steps % self.checkpoint:
+            raise ValueError(f"max_steps ({self.max_steps}) must be a multiple of checkpoint ({self.checkpoint})")
+
+
+@jax.tree_util.register_dataclass
+@dataclasses.dataclass(frozen=True)
+class StoneState:
+    """Kinematic state of the stone (world frame: z up, water at rest at z = 0)."""
+
+    position: jax.Array
+    """(3,) centre of mass [m]."""
+    velocity: jax.Array
+    """(3,) centre-of-mass velocity [m/s]."""
+    orientation: jax.Array
+    """(4,) unit quaternion (w, x, y, z), body to world."""
+    angular_velocity: jax.Array
+    """(3,) angular velocity in the world frame [rad/s]."""
+    time: jax.Array
+    """() simulated time [s]."""
+
+
+@jax.tree_util.register_dataclass
+@dataclasses.dataclass(frozen=True)
+class Tracker:
+    """What a rollout observes about contacts, carried through the scan. K = ``max_contacts``."""
+
+    alive: jax.Array
+    """() bool: the stone is still in play."""
+    outcome: jax.Array
+    """() int: index into :data:`OUTCOMES` (0 while running)."""
+    phase: jax.Array
+    """() int: 0 in the air, 1 in the water, 2 just left the water (bounce not yet confirmed)."""
+    bounces: jax.Array
+    """() int: contacts that ended with the stone leaving the water."""
+    contacts: jax.Array
+    """() int: contacts begun."""
+    t_leave: jax.Array
+    """() time the current contact lost its last wet triangle [s]."""
+    tilt_leave: jax.Array
+    """() tilt at ``t_leave`` [rad]."""
+    t_start: jax.Array
+    """(K,) contact start times [s] (NaN: not reached)."""
+    t_end: jax.Array
+    """(K,) contact end times [s] (NaN: not ended)."""
+    x_start: jax.Array
+    """(K, 3) centre of mass at contact start [m]."""
+    tilt_start: jax.Array
+    """(K,) tilt at contact start [rad]."""
+    tilt_end: jax.Array
+    """(K,) tilt at contact end [rad]."""
+    contact_steps: jax.Array
+    """() int: steps taken in the water (cost accounting)."""
+
+
+@jax.tree_util.register_dataclass
+@dataclasses.dataclass(frozen=True)
+class Record:
+    """Per-step output of a rollout (one row per scan step; frozen rows repeat the last state)."""
+
+    time: jax.Array
+    """() [s]"""
+    position: jax.Array
+    """(3,) [m]"""
+    orientation: jax.Array
+    """(4,) quaternion"""
+    wetted_area: jax.Array
+    """() immersed area [m^2]"""
+    force: jax.Array
+    """(3,) water force [N]"""
+
+
+def _gravity(water: WaterParams):
+    return jnp.stack([0.0 * water.gravity, 0.0 * water.gravity, -water.gravity])
+
+
+def _tilt_from_matrix(R):
+    """Angle between the face normal (body z) and the vertical [rad], in [0, π]; gradient-safe."""
+    h2 = R[0, 2] ** 2 + R[1, 2] ** 2
+    pos = h2 > 0.0
+    h = jnp.where(pos, jnp.sqrt(jnp.where(pos, h2, 1.0)), 0.0)
+    return jnp.arctan2(h, R[2, 2])
+
+
+def _flat(x, y):
+    return 0.0 * x
+
+
+def initial_state(throw: Throw, stone: RigidStone) -> StoneState:
+    """State at release: lowest point ``throw.height`` above flat water, velocity and spin from the throw."""
+    q = attitude(throw.tilt, throw.heading)
+    R = quat.to_matrix(q)
+    lowest = jnp.min(quat.rotate(R, stone.triangles)[..., 2])
+    normal = R[:, 2]
+    ca = jnp.cos(throw.attack)
+    velocity = throw.speed * jnp.stack(
+        [ca * jnp.cos(throw.heading), ca * jnp.sin(throw.heading), -jnp.sin(throw.attack)]
+    )
+    position = jnp.stack([0.0 * lowest, 0.0 * lowest, throw.height - lowest])
+    return StoneState(position, velocity, q, throw.spin * normal, 0.0 * throw.speed)
+
+
+def _new_tracker(k: int, dtype) -> Tracker:
+    nan = jnp.full((k,), jnp.nan, dtype)
+    i0 = jnp.asarray(0, jnp.int32)
+    return Tracker(
+        alive=jnp.asarray(True), outcome=i0, phase=i0, bounces=i0, contacts=i0,
+        t_leave=jnp.asarray(jnp.nan, dtype), tilt_leave=jnp.asarray(jnp.nan, dtype),
+        t_start=nan, t_end=nan, x_start=jnp.full((k, 3), jnp.nan, dtype), tilt_start=nan, tilt_end=nan,
+        contact_steps=i0,
+    )
+
+
+def _world_inertia_inv(stone, R):
+    return quat.congruence(R, stone.inv_inertia)
+
+
+def _world_inertia(stone, R):
+    return quat.congruence(R, stone.inertia)
+
+
+def _dynamics(config: SimConfig, stone: RigidStone, water: WaterParams, surface):
+    """Time derivative of (x, v, q, L) and the water force, for the integrators."""
+    fixed = config.attitude == "fixed"
+
+    def deriv(x, v, q, L):
+        R = quat.to_matrix(q)
+        omega = jnp.zeros(3) * L if fixed else quat.rotate(_world_inertia_inv(stone, R), L)
+        F, tau, wet = water_force(config.force, water, stone, x, R, v, omega, surface)
+        a = F / stone.mass + _gravity(water)
+        if fixed:
+            return (v, a, jnp.zeros(4) * q, jnp.zeros(3) * L), (F, wet)
+        qdot = 0.5 * quat.multiply(jnp.concatenate([jnp.zeros(1) * L[:1], omega]), q)
+        return (v, a, qdot, tau), (F, wet)
+
+    return deriv
+
+
+def free_rotation(q, L, stone: RigidStone, h, substeps: int = 2):
+    r"""Torque-free rotation of the stone for a time ``h`` [s]: new quaternion (4,).
+
+    ``L`` (3,) is the (conserved) angular momentum in the world frame [kg m^2/s].
+    With principal moments :math:`I_1, I_2, I_3` the kinetic energy splits as
+
+    .. math:: H = \frac{|L|^2}{2I_1} + \frac{L_3^2}{2}\Big(\frac1{I_3}-\frac1{I_1}\Big)
+                 + \frac{L_2^2}{2}\Big(\frac1{I_2}-\frac1{I_1}\Big),
+
+    whose first two terms commute and flow exactly (a rotation about
+    :math:`L` at rate :math:`|L|/I_1`, and one about the body z axis at rate
+    :math:`L_3(1/I_3 - 1/I_1)`): the free symmetric top is solved exactly.
+    The asymmetric third term is Strang-split around them, so the error is
+    second order in ``h`` times :math:`(1/I_2 - 1/I_1)`. Every sub-flow is a
+    rotation, so the world angular momentum is conserved exactly; the energy
+    error is bounded (a symplectic splitting: no drift) and vanishes for an
+    axisymmetric stone.
+    """
+    inv = jnp.diagonal(stone.inv_inertia)
+    c2 = inv[1] - inv[0]
+    c3 = inv[2] - inv[0]
+    e2 = jnp.array([0.0, 1.0, 0.0])
+    e3 = jnp.array([0.0, 0.0, 1.0])
+    k = h / substeps
+
+    def body_l(q):
+        return quat.rotate_inverse(quat.to_matrix(q), L)
+
+    def half_asym(q):
+        return quat.multiply(q, quat.exp_map(e2 * (body_l(q)[1] * c2 * 0.5 * k)))
+
+    for _ in range(substeps):
+        q = half_asym(q)
+        q = quat.multiply(quat.exp_map(L * (inv[0] * k)), quat.multiply(q, quat.exp_map(e3 * (body_l(q)[2] * c3 * k))))
+        q = quat.normalize(half_asym(q))
+    return q
+
+
+def _integrate(config, stone, water, surface, state: StoneState, dt, first, dry):
+    """Advance the state by ``dt``; ``first`` is the derivative already evaluated at the start,
+    ``dry`` says no point of the stone can touch the water during the step."""
+    deriv = _dynamics(config, stone, water, surface)
+    x, v, q = state.position, state.velocity, state.orientation
+    R = quat.to_matrix(q)
+    L = quat.rotate(_world_inertia(stone, R), state.angular_velocity)
+    g = _gravity(water)
+    (_, a0, _, tau0), _ = first
+    if config.integrator == "euler":
+        a_water = a0 - g
+        v1 = v + a0 * dt
+        x1 = x + v * dt + (a_water + 0.5 * g) * dt * dt
+        if config.attitude == "fixed":
+            return x1, v1, q, state.angular_velocity
+        # Kick the angular momentum with the torque, then rotate freely (Lie-Poisson splitting).
+        L1 = L + tau0 * dt
+        q1 = free_rotation(q, L1, stone, dt)
+    else:
+        k1, _ = first
+        y = (x, v, q, L)
+        add = lambda y, k, h: tuple(yi + h * ki for yi, ki in zip(y, k))
+        k2, _ = deriv(*add(y, k1, 0.5 * dt))
+        k3, _ = deriv(*add(y, k2, 0.5 * dt))
+        k4, _ = deriv(*add(y, k3, dt))
+        x1, v1, q1, L1 = (
+            yi + dt / 6.0 * (a + 2 * b + 2 * c + d) for yi, a, b, c, d in zip(y, k1, k2, k3, k4)
+        )
+        if config.attitude == "fixed":
+            return x1, v1, q, state.angular_velocity
+        # In the air the torque is zero and the free flow is exact: use it for long flight steps.
+        q1 = jnp.where(dry, free_rotation(q, L, stone, dt), quat.normalize(q1))
+        L1 = jnp.where(dry, L, L1)
+    omega1 = quat.rotate(_world_inertia_inv(stone, quat.to_matrix(q1)), L1)
+    return x1, v1, q1, omega1
+
+
+def _step_length(config, stone, water, state: StoneState, gap, wet):
+    """Conservative-advancement step length [s] and whether the step is certainly dry."""
+    g = water.gravity
+    spin = 0.0 if config.attitude == "fixed" else jnp.sqrt(jnp.sum(state.angular_velocity**2) + 1e-30)
+    b = state.velocity[2] - spin * stone.radius
+    dry = (gap > 0.0) & (wet <= 0.0)
+    arg = jnp.where(dry, b * b + 2.0 * g * gap, 1.0)
+    t_star = jnp.where(dry, (b + jnp.sqrt(arg)) / g, 0.0)
+    if config.flight == "step":
+        return jnp.asarray(config.dt, state.time.dtype) + 0.0 * gap, dry & (t_star >= config.dt)
+    # ``dry`` for the integrator: the whole step ends before any contact can begin.
+    return jnp.clip(t_star, config.dt, config.max_flight_step), dry & (t_star >= config.dt)
+
+
+def make_step(config: SimConfig, surface=_flat):
+    """Return the pure step ``step(carry, stone, water) -> (carry, record)``.
+
+    ``carry = (StoneState, Tracker)``. ``surface(x, y) -> h`` is the water height
+    [m] (flat water by default; the height-field model supplies its own).
+    """
+
+    def step(carry, stone: RigidStone, water: WaterParams):
+        state, tr = carry
+        deriv = _dynamics(config, stone, water, surface)
+        R = quat.to_matrix(state.orientation)
+        L = quat.rotate(_world_inertia(stone, R), state.angular_velocity)
+        first = deriv(state.position, state.velocity, state.orientation, L)
+        F, wet_area = first[1]
+        z = state.position[2] + quat.rotate(R, stone.triangles)[..., 2]
+        h = surface(state.position[0] + 0.0 * z, state.position[1] + 0.0 * z)
+        gap = jnp.min(z - h)
+        top = jnp.max(z - h)
+        dt, dry = _step_length(config, stone, water, state, gap, wet_area)
+
+        # --- bookkeeping at the state at the start of the step ---
+        t = state.time
+        tilt = _tilt_from_matrix(R)
+        wet = wet_area > 0.0
+        k = config.max_contacts
+        begin = tr.alive & wet & (tr.phase == AIR)
+        leave = tr.alive & ~wet & (tr.phase == WET)
+        rewet = tr.alive & wet & (tr.phase == LEAVING)
+        bounce = tr.alive & ~wet & (tr.phase == LEAVING) & (gap > config.bounce_clearance)
+        idx_new = jnp.minimum(tr.contacts, k - 1)
+        log_new = begin & (tr.contacts < k)
+        idx_cur = jnp.clip(tr.contacts - 1, 0, k - 1)
+        log_end = bounce & (tr.contacts <= k)
+        phase = jnp.where(begin | rewet, WET, jnp.where(leave, LEAVING, jnp.where(bounce, AIR, tr.phase)))
+
+        speed = jnp.sqrt(jnp.sum(state.velocity**2) + 1e-30)
+        outcome = jnp.where(
+            top < 0.0, SANK,
+            jnp.where(R[2, 2] < 0.0, FLIPPED,
+                      jnp.where(wet & (speed < config.stop_speed), STOPPED,
+                                jnp.where(t >= config.duration, TIME_LIMIT, RUNNING))))
+        outcome = jnp.where(tr.alive, outcome, tr.outcome)
+        alive = tr.alive & (outcome == RUNNING)
+
+        tr1 = Tracker(
+            alive=alive,
+            outcome=outcome.astype(jnp.int32),
+            phase=phase.astype(jnp.int32),
+            bounces=tr.bounces + bounce.astype(jnp.int32),
+            contacts=tr.contacts + begin.astype(jnp.int32),
+            t_leave=jnp.where(leave, t, tr.t_leave),
+            tilt_leave=jnp.where(leave, tilt, tr.tilt_leave),
+            t_start=jnp.where(log_new, tr.t_start.at[idx_new].set(t), tr.t_start),
+            t_end=jnp.where(log_end, tr.t_end.at[idx_cur].set(tr.t_leave), tr.t_end),
+            x_start=jnp.where(log_new, tr.x_start.at[idx_new].set(state.position), tr.x_start),
+            tilt_start=jnp.where(log_new, tr.tilt_start.at[idx_new].set(tilt), tr.tilt_start),
+            tilt_end=jnp.where(log_end, tr.tilt_end.at[idx_cur].set(tr.tilt_leave), tr.tilt_end),
+            contact_steps=tr.contact_steps + (alive & wet).astype(jnp.int32),
+        )
+
+        # --- integrate; a stone out of play keeps its state ---
+        x1, v1, q1, w1 = _integrate(config, stone, water, surface, state, dt, first, dry)
+        new = StoneState(x1, v1, q1, w1, t + dt)
+        state1 = jax.tree_util.tree_map(lambda a, b: jnp.where(alive, a, b), new, state)
+        rec = Record(t, state.position, state.orientation, wet_area, F) if config.record else None
+        return (state1, tr1), rec
+
+    return step
+
+
+def _scan(config: SimConfig, step, carry, stone, water):
+    body = lambda c, _: step(c, stone, water)
+    if not config.checkpoint:
+        return jax.lax.scan(body, carry, None, length=config.max_steps)
+    k = config.checkpoint
+
+    @jax.checkpoint
+    def segment(c, _):
+        return jax.lax.scan(body, c, None, length=k)
+
+    carry, recs = jax.lax.scan(segment, carry, None, length=config.max_steps // k)
+    return carry, jax.tree_util.tree_map(lambda r: r.reshape((-1,) + r.shape[2:]), recs)
+
+
+def rollout(config: SimConfig, throw: Throw, stone: RigidStone, water: WaterParams, surface=_flat):
+    """Simulate one throw for ``config.max_steps`` steps: pure, jit/vmap/grad-able.
+
+    Returns ``(state, tracker, records)``: the final :class:`StoneState`, the
+    :class:`Tracker` and, if ``config.record``, a :class:`Record` with a leading
+    axis of ``max_steps`` (else ``None``). A stone still in play when the steps
+    run out gets outcome ``step_limit``.
+    """
+    state = initial_state(throw, stone)
+    carry = (state, _new_tracker(config.max_contacts, state.position.dtype))
+    step = make_step(config, surface)
+    (state, tr), recs = _scan(config, step, carry, stone, water)
+    tr = dataclasses.replace(tr, outcome=jnp.where(tr.alive, STEP_LIMIT, tr.outcome).astype(jnp.int32))
+    return state, tr, (recs if config.record else None)
+
+
+rollout_jit = jax.jit(rollout, static_argnames=("config", "surface"))
+"""``rollout`` compiled once per (config, surface); new throws, stones of the same size and water constants reuse it."""

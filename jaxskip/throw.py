@@ -1,0 +1,89 @@
+r"""A throw: how the stone leaves the hand (or the catapult), and its initial state.
+
+Angles (physics.md §1): ``tilt`` is the angle of the stone's face to the
+water surface, leading edge up (Bocquet's θ, Clanet's α; the "magic angle"
+≈ 20° is a tilt). ``attack`` is the angle of the velocity *below* the
+horizontal (Clanet's β). ``heading`` turns the whole throw about the
+vertical. ``spin`` is the angular speed about the face normal, positive
+counter-clockwise seen from above.
+
+:class:`Throw` holds SI values (m/s, rad, rad/s, m). Degrees and rev/s belong
+to the edges of the program: use :meth:`Throw.from_degrees`, which converts once.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+
+import jax
+import jax.numpy as jnp
+
+from . import quaternion
+from ._checks import ParameterError, check_range, check_real
+
+MAX_SPEED = 100.0
+"""Largest accepted throw speed [m/s] (far beyond any human or catapult)."""
+MAX_SPIN = 2 * math.pi * 500.0
+"""Largest accepted spin [rad/s] (500 rev/s)."""
+
+
+@jax.tree_util.register_dataclass
+@dataclasses.dataclass(frozen=True)
+class Throw:
+    """Initial conditions of a throw (pytree: every field is traced, so new values never recompile).
+
+    Examples
+    --------
+    >>> t = Throw.from_degrees(speed=5.0, tilt=20.0, attack=10.0, spin=10.0)  # m/s, deg, deg, rev/s
+    >>> round(float(t.tilt), 4), round(float(t.spin), 3)  # rad, rad/s
+    (0.3491, 62.832)
+    """
+
+    speed: jax.Array
+    """() speed of the centre of mass [m/s], > 0."""
+    tilt: jax.Array
+    """() angle of the face to the water, leading edge up [rad], in (-π/2, π/2)."""
+    attack: jax.Array
+    """() angle of the velocity below the horizontal [rad], in [-π/2, π/2]."""
+    spin: jax.Array
+    """() angular speed about the face normal [rad/s]; positive is counter-clockwise seen from above."""
+    height: jax.Array
+    """() clearance of the stone's lowest point above the water at release [m], >= 0."""
+    heading: jax.Array
+    """() direction of travel, counter-clockwise from +x [rad]."""
+
+    @classmethod
+    def create(cls, speed=8.0, tilt=math.radians(20.0), attack=math.radians(10.0), spin=2 * math.pi * 20.0,
+               height=0.001, heading=0.0) -> "Throw":
+        """Validated constructor in SI units (m/s, rad, rad/s, m); raises :class:`ParameterError`."""
+        speed = check_range("speed", speed, 0.0, MAX_SPEED, unit="m/s", low_open=True)
+        tilt = check_range("tilt", tilt, -math.pi / 2, math.pi / 2, unit="rad", low_open=True, high_open=True)
+        attack = check_range("attack", attack, -math.pi / 2, math.pi / 2, unit="rad")
+        spin = check_range("spin", spin, -MAX_SPIN, MAX_SPIN, unit="rad/s")
+        height = check_range("height", height, 0.0, 100.0, unit="m")
+        heading = check_real("heading", heading)
+        f = lambda x: jnp.asarray(x, dtype=float)
+        return cls(f(speed), f(tilt), f(attack), f(spin), f(height), f(heading))
+
+    @classmethod
+    def from_degrees(cls, speed=8.0, tilt=20.0, attack=10.0, spin=20.0, height=0.001, heading=0.0) -> "Throw":
+        """Build a throw from user units: speed [m/s], angles [deg], spin [rev/s], height [m]."""
+        for name, value, lim in (("tilt", tilt, 90.0), ("attack", attack, 90.0)):
+            v = check_real(name, value)
+            if (name == "tilt" and not -lim < v < lim) or (name == "attack" and not -lim <= v <= lim):
+                ends = "(-90, 90)" if name == "tilt" else "[-90, 90]"
+                raise ParameterError(f"{name} must be in {ends} degrees, got {v!r}")
+        spin_v = check_range("spin", spin, -500.0, 500.0, unit="rev/s")
+        return cls.create(speed=speed, tilt=math.radians(tilt), attack=math.radians(attack),
+                          spin=2 * math.pi * spin_v, height=height, heading=math.radians(check_real("heading", heading)))
+
+
+def attitude(tilt, heading):
+    """Quaternion (4,) of a stone tilted by ``tilt`` [rad] (leading edge up) and turned by ``heading`` [rad].
+
+    The body z axis (face normal) becomes ``(-sin tilt cos heading, -sin tilt sin heading, cos tilt)``.
+    """
+    q_tilt = quaternion.from_axis_angle(jnp.array([0.0, 1.0, 0.0]), -tilt)
+    q_head = quaternion.from_axis_angle(jnp.array([0.0, 0.0, 1.0]), heading)
+    return quaternion.multiply(q_head, q_tilt)

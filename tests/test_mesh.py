@@ -1,0 +1,302 @@
+"""Tests for jaxskip.mesh and jaxskip.stones (numpy only, fast)."""
+
+import math
+
+import numpy as np
+import pytest
+
+from jaxskip.mesh import (
+    MeshError,
+    TriMesh,
+    mass_properties,
+    read_obj,
+    validate_mesh,
+    write_obj,
+)
+from jaxskip.stones import (
+    ALUMINIUM_DENSITY,
+    BUILTIN_STONES,
+    STONE_DENSITY,
+    clanet_disk,
+    disk,
+    irregular_pebble,
+    load_stone,
+    paper_stone,
+)
+
+
+def box(a, b, c):
+    """Axis-aligned box of sides a, b, c [m] centred at the origin: 8 vertices, 12 triangles."""
+    # vertex k = 4 x + 2 y + z with x, y, z in {0, 1}
+    bits = np.array([[k >> 2 & 1, k >> 1 & 1, k & 1] for k in range(8)], dtype=float)
+    vertices = (bits - 0.5) * [a, b, c]
+    quads = [(0, 1, 3, 2), (4, 6, 7, 5), (0, 4, 5, 1), (2, 3, 7, 6), (0, 2, 6, 4), (1, 5, 7, 3)]
+    faces = [f for p, q, r, s in quads for f in ((p, q, r), (p, r, s))]
+    return TriMesh(vertices, faces, "box")
+
+
+def rotation(axis, angle):
+    """Rotation matrix about ``axis`` by ``angle`` [rad] (Rodrigues' formula)."""
+    k = np.asarray(axis, float) / np.linalg.norm(axis)
+    kx = np.array([[0, -k[2], k[1]], [k[2], 0, -k[0]], [-k[1], k[0], 0]])
+    return np.eye(3) + math.sin(angle) * kx + (1 - math.cos(angle)) * kx @ kx
+
+
+def assert_rel(actual, expected, rtol=1e-9):
+    """Compare with a tolerance relative to the largest entry of ``expected``."""
+    expected = np.asarray(expected, float)
+    np.testing.assert_allclose(actual, expected, rtol=0, atol=rtol * np.abs(expected).max())
+
+
+# ---------------------------------------------------------------------------
+# mass properties
+# ---------------------------------------------------------------------------
+
+A, B, C, RHO = 0.07, 0.05, 0.011, 2650.0
+BOX_MASS = RHO * A * B * C
+BOX_INERTIA = BOX_MASS / 12 * np.diag([B**2 + C**2, A**2 + C**2, A**2 + B**2])
+
+
+def test_box_mass_properties():
+    mesh = box(A, B, C)
+    validate_mesh(mesh.vertices, mesh.faces)
+    assert mesh.n_triangles == 12
+    props = mass_properties(mesh, density=RHO)
+    assert props.volume == pytest.approx(A * B * C, rel=1e-12)
+    assert props.mass == pytest.approx(BOX_MASS, rel=1e-12)
+    np.testing.assert_allclose(props.center_of_mass, 0.0, atol=1e-15)
+    assert_rel(props.inertia, BOX_INERTIA)
+    assert mesh.areas.sum() == pytest.approx(2 * (A * B + B * C + A * C), rel=1e-12)
+    np.testing.assert_allclose(np.linalg.norm(mesh.normals, axis=1), 1.0, rtol=1e-12)
+
+
+def test_box_translated_and_rotated():
+    rot = rotation([1.0, -2.0, 0.5], 0.7)
+    offset = np.array([3.0, -1.5, 20.0])
+    mesh = box(A, B, C).rotated(rot).translated(offset)
+    validate_mesh(mesh.vertices, mesh.faces)
+    props = mass_properties(mesh, density=RHO)
+    assert props.volume == pytest.approx(A * B * C, rel=1e-9)
+    np.testing.assert_allclose(props.center_of_mass, offset, rtol=0, atol=1e-9 * A)
+    assert_rel(props.inertia, rot @ BOX_INERTIA @ rot.T)
+
+
+@pytest.mark.parametrize("n", [3, 7, 256])
+def test_disk_matches_polygonal_prism_and_cylinder(n):
+    radius, thickness, rho = 0.04, 0.008, 2700.0
+    props = mass_properties(disk(radius, thickness, n), density=rho)
+    alpha = 2 * np.pi / n
+    area = 0.5 * n * radius**2 * np.sin(alpha)
+    polar = n * radius**4 * np.sin(alpha) * (2 + np.cos(alpha)) / 12  # int (x^2 + y^2) dA
+    mass = rho * area * thickness
+    izz = rho * thickness * polar
+    ixx = 0.5 * izz + mass * thickness**2 / 12
+    assert props.volume == pytest.approx(area * thickness, rel=1e-9)
+    assert_rel(props.inertia, np.diag([ixx, ixx, izz]))
+    np.testing.assert_allclose(props.center_of_mass, 0.0, atol=1e-15)
+    if n >= 256:  # cylinder limit: relative error ~ alpha^2 / 6
+        cyl_mass = rho * np.pi * radius**2 * thickness
+        tol = alpha**2
+        assert props.mass == pytest.approx(cyl_mass, rel=tol)
+        assert izz == pytest.approx(cyl_mass * radius**2 / 2, rel=tol)
+        assert ixx == pytest.approx(cyl_mass * (3 * radius**2 + thickness**2) / 12, rel=tol)
+
+
+def test_mass_and_density_agree():
+    mesh = clanet_disk()
+    by_density = mass_properties(mesh, density=ALUMINIUM_DENSITY)
+    by_mass = mass_properties(mesh, mass=by_density.mass)
+    assert by_mass.mass == pytest.approx(by_density.mass, rel=1e-14)
+    np.testing.assert_allclose(by_mass.inertia, by_density.inertia, rtol=1e-12, atol=0)
+
+
+@pytest.mark.parametrize("kwargs", [{}, {"density": 1.0, "mass": 1.0}, {"density": -1.0},
+                                    {"mass": 0.0}, {"density": float("nan")}])
+def test_mass_properties_argument_errors(kwargs):
+    with pytest.raises(MeshError, match="density|mass"):
+        mass_properties(box(1, 1, 1), **kwargs)
+
+
+# ---------------------------------------------------------------------------
+# built-in stones
+# ---------------------------------------------------------------------------
+
+
+def test_paper_stone_has_38_triangles():
+    mesh = paper_stone()
+    assert mesh.name == "paper"
+    assert mesh.n_triangles == 38 and len(mesh.vertices) == 21
+    validate_mesh(mesh.vertices, mesh.faces)
+    assert np.ptp(mesh.vertices[:, 2]) == pytest.approx(0.012, rel=1e-12)
+
+
+@pytest.mark.parametrize("name", sorted(BUILTIN_STONES))
+def test_builtin_stones(name):
+    mesh, density = load_stone(name)
+    assert density == (ALUMINIUM_DENSITY if name == "clanet" else STONE_DENSITY)
+    validate_mesh(mesh.vertices, mesh.faces, name=name)
+    props = mass_properties(mesh, density=density)
+    assert props.volume > 0
+    np.testing.assert_allclose(props.center_of_mass, 0.0, atol=1e-12)
+    extent = np.ptp(mesh.vertices, axis=0)
+    assert np.argmin(extent) == 2
+    assert np.argmax(np.diag(props.inertia)) == 2  # thin axis = largest moment
+
+
+def test_irregular_pebble_is_deterministic_per_seed():
+    a, b, c = irregular_pebble(seed=3), irregular_pebble(seed=3), irregular_pebble(seed=4)
+    np.testing.assert_array_equal(a.vertices, b.vertices)
+    assert not np.allclose(a.vertices, c.vertices)
+
+
+@pytest.mark.parametrize("call", [lambda: disk(0.04, 0.008, segments=2),
+                                  lambda: disk(-0.04, 0.008),
+                                  lambda: paper_stone(thickness=float("inf")),
+                                  lambda: irregular_pebble(roughness=1.0)])
+def test_stone_parameter_errors(call):
+    with pytest.raises(MeshError, match="segments|radius|thickness|roughness"):
+        call()
+
+
+# ---------------------------------------------------------------------------
+# validation
+# ---------------------------------------------------------------------------
+
+
+def broken_box(kind):
+    mesh = box(1.0, 2.0, 3.0)
+    v, f = mesh.vertices.copy(), mesh.faces.copy()
+    if kind == "open":
+        f = f[1:]
+    elif kind == "flipped":
+        f[0] = f[0, ::-1]
+    elif kind == "inside-out":
+        f = f[:, ::-1]
+    elif kind == "degenerate":
+        v[1] = v[0]
+    elif kind == "repeated":
+        f[0, 1] = f[0, 0]
+    elif kind == "range":
+        f[3, 2] = 8
+    elif kind == "nan":
+        v[5, 1] = np.nan
+    return v, f
+
+
+@pytest.mark.parametrize("kind, message", [
+    ("open", "not closed"),
+    ("flipped", "orientation"),
+    ("inside-out", "inward"),
+    ("degenerate", "degenerate"),
+    ("repeated", "repeats a vertex"),
+    ("range", "out of range"),
+    ("nan", "not finite"),
+])
+def test_validate_mesh_errors(kind, message):
+    v, f = broken_box(kind)
+    with pytest.raises(MeshError, match=message):
+        validate_mesh(v, f, name="box")
+
+
+def test_validate_mesh_shape_errors():
+    with pytest.raises(MeshError, match=r"shape \(V, 3\)"):
+        validate_mesh(np.zeros((4, 2)), np.zeros((4, 3), int))
+    with pytest.raises(MeshError, match="integer"):
+        validate_mesh(np.zeros((4, 3)), np.zeros((4, 3)))
+
+
+def test_trimesh_is_read_only_and_rejects_reflections():
+    mesh = box(1, 1, 1)
+    with pytest.raises(ValueError):
+        mesh.vertices[0, 0] = 5.0
+    with pytest.raises(MeshError, match="rotation"):
+        mesh.rotated(np.diag([1.0, 1.0, -1.0]))
+    with pytest.raises(MeshError, match="factor"):
+        mesh.scaled(-2.0)
+
+
+# ---------------------------------------------------------------------------
+# OBJ files
+# ---------------------------------------------------------------------------
+
+
+def test_obj_round_trip_is_exact(tmp_path):
+    mesh = irregular_pebble(seed=7).rotated(rotation([1, 1, 0], 0.3))
+    path = tmp_path / "stone.obj"
+    write_obj(path, mesh)
+    back = read_obj(path)
+    assert back.name == "stone"
+    np.testing.assert_array_equal(back.vertices, mesh.vertices)
+    np.testing.assert_array_equal(back.faces, mesh.faces)
+
+
+TETRA_OBJ = """\
+# a unit tetrahedron, written in several face styles
+mtllib stone.mtl
+o tetra
+v 0 0 0
+v 1 0 0 1.0
+v 0 1 0
+v 0 0 1
+vt 0 0
+vn 0 0 1
+g group
+s off
+usemtl rock
+
+f 1/1/1 3/1/1 2/1/1
+f 1//1 2//1 4//1
+f -4 -1 -2   # negative indices count back from the last vertex
+f 2/1 3/1 4/1
+"""
+
+
+def test_read_obj_face_styles(tmp_path):
+    path = tmp_path / "tetra.obj"
+    path.write_text(TETRA_OBJ)
+    mesh = read_obj(path, name="t")
+    assert mesh.name == "t"
+    np.testing.assert_array_equal(mesh.faces, [[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]])
+    assert mass_properties(mesh, density=1.0).volume == pytest.approx(1 / 6, rel=1e-15)
+
+
+def test_read_obj_triangulates_quads(tmp_path):
+    mesh = box(1.0, 2.0, 3.0)
+    lines = [f"v {x!r} {y!r} {z!r}" for x, y, z in mesh.vertices.tolist()]
+    quads = [(0, 1, 3, 2), (4, 6, 7, 5), (0, 4, 5, 1), (2, 3, 7, 6), (0, 2, 6, 4), (1, 5, 7, 3)]
+    lines += ["f " + " ".join(str(k + 1) for k in q) for q in quads]
+    path = tmp_path / "box.obj"
+    path.write_text("\n".join(lines))
+    back = read_obj(path)
+    assert back.n_triangles == 12
+    np.testing.assert_array_equal(back.faces, mesh.faces)
+
+
+@pytest.mark.parametrize("bad_line", ["v 1 2", "v 1 2 x", "f 1 2", "f 1 2 9", "f 0 1 2",
+                                      "f a/1 2 3", "l 1 2", "import os"])
+def test_read_obj_malformed_lines(tmp_path, bad_line):
+    lines = TETRA_OBJ.splitlines()
+    lines.insert(5, bad_line)  # becomes line 6
+    path = tmp_path / "bad.obj"
+    path.write_text("\n".join(lines))
+    with pytest.raises(MeshError, match="bad.obj, line 6"):
+        read_obj(path)
+
+
+def test_read_obj_invalid_mesh(tmp_path):
+    path = tmp_path / "flipped.obj"
+    path.write_text(TETRA_OBJ.replace("f 2/1 3/1 4/1", "f 2 4 3"))
+    with pytest.raises(MeshError, match="flipped.obj.*orientation"):
+        read_obj(path)
+
+
+def test_load_stone_errors_and_obj(tmp_path):
+    with pytest.raises(MeshError, match="clanet.*ellipsoid.*paper.*pebble.*obj"):
+        load_stone("granite")
+    with pytest.raises(MeshError, match="missing.obj"):
+        load_stone(tmp_path / "missing.obj")
+    path = tmp_path / "rock.obj"
+    write_obj(path, box(0.04, 0.03, 0.01).translated([1.0, 2.0, 3.0]))
+    mesh, density = load_stone(str(path))
+    assert density == STONE_DENSITY
+    np.testing.assert_allclose(mass_properties(mesh, density=1.0).center_of_mass, 0, atol=1e-15)
