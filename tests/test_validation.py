@@ -1,0 +1,57 @@
+"""Bad input raises a clear ParameterError naming the parameter, before any tracing."""
+
+import math
+
+import pytest
+
+from jaxskip import ForceModel, ParameterError, SimConfig, Throw, rigid_stone, simulate, water_params
+from jaxskip.stones import paper_stone
+
+
+@pytest.mark.parametrize("kwargs, name", [
+    (dict(speed=0.0), "speed"), (dict(speed=-1.0), "speed"), (dict(speed=math.nan), "speed"),
+    (dict(speed=math.inf), "speed"), (dict(tilt=90.0), "tilt"), (dict(tilt=-90.0), "tilt"),
+    (dict(tilt=math.nan), "tilt"), (dict(attack=91.0), "attack"), (dict(spin=math.inf), "spin"),
+    (dict(height=-0.1), "height"), (dict(speed="fast"), "speed"),
+])
+def test_throw_from_degrees(kwargs, name):
+    with pytest.raises(ParameterError, match=name):
+        Throw.from_degrees(**kwargs)
+
+
+@pytest.mark.parametrize("kwargs, name", [
+    (dict(dt=0.0), "dt"), (dict(dt=-1e-4), "dt"), (dict(dt=math.nan), "dt"), (dict(dt=1.0), "dt"),
+    (dict(duration=0.0), "duration"), (dict(duration=math.inf), "duration"),
+    (dict(max_steps=0), "max_steps"), (dict(max_steps=2.5), "max_steps"),
+    (dict(integrator="leapfrog"), "integrator"), (dict(attitude="wobbly"), "attitude"),
+    (dict(max_steps=1000, checkpoint=300), "checkpoint"),
+])
+def test_sim_config(kwargs, name):
+    with pytest.raises(ValueError, match=name):
+        SimConfig(**kwargs)
+
+
+def test_force_model_and_water():
+    with pytest.raises(ParameterError, match="law"):
+        ForceModel(law="magic")
+    with pytest.raises(ParameterError, match="sharpness"):
+        ForceModel(sharpness=-1.0)
+    with pytest.raises(ParameterError, match="rho_water"):
+        water_params(rho_water=0.0)
+    with pytest.raises(ParameterError, match="gravity"):
+        water_params(gravity=math.nan)
+    with pytest.raises(ValueError, match="c_friction"):
+        water_params(c_friction=-0.1)
+
+
+def test_stone_mass_and_density():
+    with pytest.raises(ParameterError, match="mass"):
+        rigid_stone(paper_stone(), mass=-1.0)
+    with pytest.raises(ParameterError, match="density"):
+        rigid_stone(paper_stone(), density=math.nan)
+    with pytest.raises(ParameterError, match="exactly one"):
+        rigid_stone(paper_stone())
+    with pytest.raises(ParameterError, match="mass"):
+        simulate(stone="paper", mass=0.0)
+    with pytest.raises(ParameterError, match="throw"):
+        simulate(throw=(5.0, 20.0))
