@@ -78,3 +78,28 @@ def check_choice(name: str, value, choices) -> str:
     if value not in choices:
         raise ParameterError(f"{name} must be one of {', '.join(map(repr, choices))}; got {value!r}")
     return value
+
+
+def check_array(name: str, value, low: float, high: float, *, unit: str = "", low_open: bool = False,
+                high_open: bool = False):
+    """Validate a scalar or array elementwise (finite, inside the range); return a float64 NumPy array.
+
+    Used for batched throws: every element is checked on concrete values before tracing, and
+    the message names the parameter, the valid range and the first offending value.
+    """
+    import numpy as np
+
+    try:
+        arr = np.asarray(value, dtype=np.float64)
+    except (TypeError, ValueError):
+        raise ParameterError(f"{name} must be a real number or array of them, got {value!r}") from None
+    bad = ~np.isfinite(arr)
+    if not bad.any():
+        bad = (arr <= low if low_open else arr < low) | (arr >= high if high_open else arr > high)
+    if bad.any():
+        first = float(arr[bad].flat[0])
+        lo = "(" if low_open else "["
+        hi = ")" if high_open else "]"
+        u = f" {unit}" if unit else ""
+        raise ParameterError(f"{name} must be finite and in {lo}{low:g}, {high:g}{hi}{u}, got {first!r}")
+    return arr

@@ -55,3 +55,15 @@ def test_stone_mass_and_density():
         simulate(stone="paper", mass=0.0)
     with pytest.raises(ParameterError, match="throw"):
         simulate(throw=(5.0, 20.0))
+
+
+def test_batched_throw_is_validated_elementwise():
+    import numpy as np
+
+    t = Throw.from_degrees(speed=[5.0, 6.0, 7.0], tilt=20.0, spin=np.array([0.0, 10.0, 20.0]))
+    assert t.shape == (3,) and np.allclose(np.asarray(t.tilt), np.radians(20.0))
+    assert np.allclose(np.asarray(t.spin), 2 * np.pi * np.array([0.0, 10.0, 20.0]))
+    with pytest.raises(ParameterError, match=r"speed .* got -2.0"):
+        Throw.from_degrees(speed=[5.0, -2.0])
+    with pytest.raises(ParameterError, match="tilt"):
+        Throw.from_degrees(tilt=[10.0, float("nan")])
