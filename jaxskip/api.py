@@ -16,13 +16,12 @@ import sys
 import time
 
 import jax
-import jax.numpy as jnp
 import numpy as np
 
 from ._checks import ParameterError, check_int, check_positive
 from .body import RigidStone, rigid_stone
 from .forces import WaterParams, water_params
-from .mesh import MeshError, TriMesh
+from .mesh import TriMesh
 from .simulate import OUTCOMES, STEP_LIMIT, SimConfig, _new_tracker, _scan, initial_state, make_step
 from .stones import load_stone
 from .throw import Throw

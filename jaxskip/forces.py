@@ -42,7 +42,7 @@ import jax
 import jax.numpy as jnp
 
 from . import clipping, quaternion
-from ._checks import check_choice, check_positive, check_real
+from ._checks import ParameterError, check_choice, check_positive, check_real
 
 LAWS = ("seed", "bocquet")
 FACES = ("leading", "all")
@@ -123,8 +123,10 @@ def water_params(
     defaults = DEFAULT_COEFFICIENTS[law]
     cl = defaults["c_lift"] if c_lift is None else check_real("c_lift", c_lift)
     cf = defaults["c_friction"] if c_friction is None else check_real("c_friction", c_friction)
-    if cl < 0 or cf < 0:
-        raise ValueError(f"c_lift and c_friction must be >= 0, got {cl!r}, {cf!r}")
+    if cl < 0:
+        raise ParameterError(f"c_lift must be >= 0, got {cl!r}")
+    if cf < 0:
+        raise ParameterError(f"c_friction must be >= 0, got {cf!r}")
     f = jnp.asarray
     return WaterParams(
         c_lift=f(cl),

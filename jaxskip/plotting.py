@@ -28,7 +28,6 @@ def plot_throw(result, path=None, *, ax=None):
 
     traj = result.trajectory
     pos = np.asarray(traj["position"])
-    t = np.asarray(traj["time"])
     wet = np.asarray(traj["wetted_area"]) > 0
     if ax is None:
         fig, (side, top) = plt.subplots(2, 1, figsize=(10, 5.2), height_ratios=[2.2, 1], sharex=True)
