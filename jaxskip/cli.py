@@ -41,8 +41,8 @@ def build_parser() -> argparse.ArgumentParser:
     t.add_argument("--speed", type=_float("--speed"), default=8.0, metavar="M/S", help="speed [m/s] (default 8)")
     t.add_argument("--tilt", type=_float("--tilt"), default=20.0, metavar="DEG",
                    help="face angle to the water, leading edge up [deg], in (-90, 90) (default 20)")
-    t.add_argument("--attack", type=_float("--attack"), default=10.0, metavar="DEG",
-                   help="velocity angle below the horizontal [deg], in [-90, 90] (default 10)")
+    t.add_argument("--attack", type=_float("--attack"), default=5.0, metavar="DEG",
+                   help="velocity angle below the horizontal [deg], in [-90, 90] (default 5)")
     t.add_argument("--spin", type=_float("--spin"), default=20.0, metavar="REV/S",
                    help="spin about the face normal [rev/s] (default 20)")
     t.add_argument("--height", type=_float("--height"), default=0.001, metavar="M",
@@ -55,6 +55,8 @@ def build_parser() -> argparse.ArgumentParser:
     t.add_argument("--force-law", choices=("bocquet", "seed"), default="bocquet", help="water force law (default bocquet)")
     t.add_argument("--c-lift", type=_float("--c-lift"), default=None, help="lift coefficient (default: the law's)")
     t.add_argument("--c-friction", type=_float("--c-friction"), default=None, help="friction coefficient (default: the law's)")
+    t.add_argument("--velocity", choices=("body", "local"), default="body",
+                   help="velocity the water sees: centre of mass (body, default) or each triangle's v + w x r")
     t.add_argument("--attitude", choices=("free", "fixed"), default="free", help="6-DoF (free) or tilt held (fixed)")
     t.add_argument("--integrator", choices=("euler", "rk4"), default="euler", help="time integrator (default euler)")
     t.add_argument("--duration", type=_float("--duration"), default=5.0, metavar="S", help="simulated time limit [s] (default 5)")
@@ -96,7 +98,7 @@ def _throw(args) -> int:
     throw = Throw.from_degrees(speed=args.speed, tilt=args.tilt, attack=args.attack, spin=args.spin,
                                height=args.height, heading=args.heading)
     config = SimConfig(dt=args.dt, duration=args.duration, max_steps=args.max_steps, integrator=args.integrator,
-                       attitude=args.attitude, force=ForceModel(law=args.force_law))
+                       attitude=args.attitude, force=ForceModel(law=args.force_law, velocity=args.velocity))
     water = water_params(args.force_law, c_lift=args.c_lift, c_friction=args.c_friction)
     stone, _ = resolve_stone(args.stone, mass=args.mass, density=args.density)
     if args.plot is not None and not str(args.plot).lower().endswith((".png", ".pdf", ".svg")):

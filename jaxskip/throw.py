@@ -55,7 +55,7 @@ class Throw:
     """() direction of travel, counter-clockwise from +x [rad]."""
 
     @classmethod
-    def create(cls, speed=8.0, tilt=math.radians(20.0), attack=math.radians(10.0), spin=2 * math.pi * 20.0,
+    def create(cls, speed=8.0, tilt=math.radians(20.0), attack=math.radians(5.0), spin=2 * math.pi * 20.0,
                height=0.001, heading=0.0) -> "Throw":
         """Validated constructor in SI units (m/s, rad, rad/s, m); raises :class:`ParameterError`.
 
@@ -75,7 +75,7 @@ class Throw:
         return cls(**{k: jnp.asarray(np.broadcast_to(a, shape)) for k, a in fields.items()})
 
     @classmethod
-    def from_degrees(cls, speed=8.0, tilt=20.0, attack=10.0, spin=20.0, height=0.001, heading=0.0) -> "Throw":
+    def from_degrees(cls, speed=8.0, tilt=20.0, attack=5.0, spin=20.0, height=0.001, heading=0.0) -> "Throw":
         """Build a throw from user units: speed [m/s], angles [deg], spin [rev/s], height [m].
 
         Scalars or arrays (broadcast together, as in :meth:`create`).
