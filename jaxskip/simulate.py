@@ -332,6 +332,11 @@ def _step_length(config, stone, water, state: StoneState, gap, wet):
     return jnp.clip(t_star, config.dt, config.max_flight_step), dry & (t_star >= config.dt)
 
 
+def _log(buffer, index, write, value):
+    """``buffer[index] = value`` where ``write`` is true (touches one entry, not the whole log)."""
+    return buffer.at[index].set(jnp.where(write, value, buffer[index]))
+
+
 def make_step(config: SimConfig, surface=_flat):
     """Return the pure step ``step(carry, stone, water) -> (carry, record)``.
 
@@ -339,7 +344,7 @@ def make_step(config: SimConfig, surface=_flat):
     [m] (flat water by default; the height-field model supplies its own).
     """
 
-    def step(carry, stone: RigidStone, water: WaterParams):
+    def live_step(carry, stone: RigidStone, water: WaterParams):
         state, tr = carry
         deriv = _dynamics(config, stone, water, surface)
         R = quat.to_matrix(state.orientation)
@@ -384,11 +389,11 @@ def make_step(config: SimConfig, surface=_flat):
             contacts=tr.contacts + begin.astype(jnp.int32),
             t_leave=jnp.where(leave, t, tr.t_leave),
             tilt_leave=jnp.where(leave, tilt, tr.tilt_leave),
-            t_start=jnp.where(log_new, tr.t_start.at[idx_new].set(t), tr.t_start),
-            t_end=jnp.where(log_end, tr.t_end.at[idx_cur].set(tr.t_leave), tr.t_end),
-            x_start=jnp.where(log_new, tr.x_start.at[idx_new].set(state.position), tr.x_start),
-            tilt_start=jnp.where(log_new, tr.tilt_start.at[idx_new].set(tilt), tr.tilt_start),
-            tilt_end=jnp.where(log_end, tr.tilt_end.at[idx_cur].set(tr.tilt_leave), tr.tilt_end),
+            t_start=_log(tr.t_start, idx_new, log_new, t),
+            t_end=_log(tr.t_end, idx_cur, log_end, tr.t_leave),
+            x_start=_log(tr.x_start, idx_new, log_new, state.position),
+            tilt_start=_log(tr.tilt_start, idx_new, log_new, tilt),
+            tilt_end=_log(tr.tilt_end, idx_cur, log_end, tr.tilt_leave),
             contact_steps=tr.contact_steps + (alive & wet).astype(jnp.int32),
         )
 
@@ -398,6 +403,16 @@ def make_step(config: SimConfig, surface=_flat):
         state1 = jax.tree_util.tree_map(lambda a, b: jnp.where(alive, a, b), new, state)
         rec = Record(t, state.position, state.orientation, wet_area, F) if config.record else None
         return (state1, tr1), rec
+
+    def frozen_step(carry, stone, water):
+        state, tr = carry
+        zero = 0.0 * state.time
+        rec = Record(state.time, state.position, state.orientation, zero, jnp.zeros(3) * zero) if config.record else None
+        return carry, rec
+
+    def step(carry, stone: RigidStone, water: WaterParams):
+        # Out of play: skip the work (a real branch for one throw; under vmap it becomes a select).
+        return jax.lax.cond(carry[1].alive, live_step, frozen_step, carry, stone, water)
 
     return step
 
