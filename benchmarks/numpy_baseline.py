@@ -6,10 +6,12 @@ without JAX, as fast as NumPy allows (every array carries a leading batch axis
 steps). It runs in float64.
 
 It reproduces :func:`jaxskip.simulate.rollout` for the default configuration
-only, and refuses anything else:
+and refuses what it does not implement:
 
-* force law ``ForceModel()``: Bocquet's per-face law, leading faces only, each
-  triangle's own velocity ``v + ω × r``, exact clipping;
+* force law: Bocquet's per-face law (``law="bocquet"``) with exact clipping;
+  loaded faces ``"leading"`` or ``"all"`` and triangle velocity ``"body"``
+  (centre-of-mass velocity) or ``"local"`` (``v + ω × r``), as
+  ``config.force`` says (``ForceModel()``'s defaults are followed);
 * ``attitude="free"``, ``integrator="euler"``: semi-implicit Euler for the
   water force with gravity integrated exactly; angular-momentum kick followed
   by :func:`free_rotation` (Lie-Poisson splitting, 2 Strang substeps);
@@ -94,12 +96,14 @@ def water_to_numpy(water) -> NpWater:
 def _check_config(config) -> None:
     """Refuse configurations this baseline does not implement."""
     f = config.force
-    wanted = dict(integrator="euler", attitude="free", flight="jump")
+    wanted = {"integrator": "euler", "attitude": "free", "flight": "jump"}
     for name, value in wanted.items():
         if getattr(config, name) != value:
             raise NotImplementedError(f"numpy baseline: only {name}={value!r} is implemented")
-    if (f.law, f.faces, f.velocity, f.sharpness) != ("bocquet", "leading", "local", None):
-        raise NotImplementedError("numpy baseline: only the default ForceModel() is implemented")
+    if f.law != "bocquet" or f.sharpness is not None:
+        raise NotImplementedError("numpy baseline: only law='bocquet' with exact clipping is implemented")
+    if f.faces not in ("leading", "all") or f.velocity not in ("local", "body"):
+        raise NotImplementedError(f"numpy baseline: faces={f.faces!r}, velocity={f.velocity!r} not implemented")
 
 
 # ---------------------------------------------------------------------------
@@ -131,13 +135,6 @@ def _congruence(R, A):
 def _matvec(M, v):
     """``M @ v`` for per-throw ``M`` (B, 3, 3) and ``v`` (B, 3) -> (B, 3)."""
     return M[:, :, 0] * v[:, 0, None] + M[:, :, 1] * v[:, 1, None] + M[:, :, 2] * v[:, 2, None]
-
-
-def _cross(a, b):
-    """Cross product over the last axis (broadcasting), without ``np.cross``'s overhead."""
-    ax, ay, az = a[..., 0], a[..., 1], a[..., 2]
-    bx, by, bz = b[..., 0], b[..., 1], b[..., 2]
-    return np.stack([ay * bz - az * by, az * bx - ax * bz, ax * by - ay * bx], axis=-1)
 
 
 def _sum3(x):
@@ -184,6 +181,7 @@ def quat_exp_map(rotvec):
 
 
 def quat_normalize(q):
+    """Unit quaternions (B, 4)."""
     return q / np.sqrt(q[:, 0] * q[:, 0] + q[:, 1] * q[:, 1] + q[:, 2] * q[:, 2] + q[:, 3] * q[:, 3])[:, None]
 
 
@@ -215,22 +213,44 @@ def free_rotation(q, L, stone: NpStone, h, substeps: int = 2):
 
 # ---------------------------------------------------------------------------
 # water force: exact clipping + Bocquet's per-face law
+#
+# The per-triangle work is done on a "structure of arrays": a vector field over
+# the mesh is a list of three contiguous (B, F) arrays (x, y, z components), so
+# every NumPy operation runs on contiguous memory without broadcasting a short
+# trailing axis.
 # ---------------------------------------------------------------------------
 
 
-def immersed_areas(p):
-    """Immersed area fraction (B, F) and immersed centroid (B, F, 3) of triangles ``p`` (B, F, 3, 3).
+def _world_vertices(stone: NpStone, R, x):
+    """World coordinates of the triangles' vertices: ``P[k][i]`` is (B, F), vertex k, coordinate i."""
+    T = stone.triangles  # (F, 3, 3): face, vertex, coordinate
+    P = []
+    for k in range(3):
+        t0, t1, t2 = T[None, :, k, 0], T[None, :, k, 1], T[None, :, k, 2]
+        P.append([x[:, i, None] + (R[:, i, 0, None] * t0 + R[:, i, 1, None] * t1 + R[:, i, 2, None] * t2)
+                  for i in range(3)])
+    return P
 
-    Flat water at z = 0. Vertices are sorted by height (stable: ties keep their
-    index order) and the triangle is cut by the water line: whole triangle,
-    triangle minus the corner at the top vertex, or the corner at the bottom
-    vertex. The corner's area fraction is the product of its edge fractions.
+
+def immersed_areas(P):
+    """Immersed area fraction (B, F) and immersed centroid (3 x (B, F)) of triangles ``P`` (see above).
+
+    Flat water at z = 0. The vertices are sorted by height (stably: equal
+    heights keep their index order) and the triangle is cut by the water line:
+    the whole triangle, the triangle minus the corner at its top vertex, or the
+    corner at its bottom vertex. A corner's area fraction is the product of its
+    two edge fractions.
     """
-    zeta = p[..., 2]
-    order = np.argsort(zeta, axis=-1, kind="stable")
-    a, b, c = np.moveaxis(np.take_along_axis(zeta, order, axis=-1), -1, 0)
-    ps = np.take_along_axis(p, order[..., None], axis=-2)
-    pa, pb, pc = ps[..., 0, :], ps[..., 1, :], ps[..., 2, :]
+    zs = [P[0][2], P[1][2], P[2][2]]
+    ps = [list(P[0]), list(P[1]), list(P[2])]
+    # Bubble-sort network (0,1), (1,2), (0,1) of compare-and-swaps; equal heights never swap.
+    for i, j in ((0, 1), (1, 2), (0, 1)):
+        swap = zs[i] > zs[j]
+        zs[i], zs[j] = np.where(swap, zs[j], zs[i]), np.where(swap, zs[i], zs[j])
+        for d in range(3):
+            ps[i][d], ps[j][d] = np.where(swap, ps[j][d], ps[i][d]), np.where(swap, ps[i][d], ps[j][d])
+    a, b, c = zs
+    pa, pb, pc = ps
 
     all_under = c <= 0.0
     one_above = (b <= 0.0) & (c > 0.0)
@@ -240,48 +260,66 @@ def immersed_areas(p):
     t_a = c / np.where(one_above, c - a, 1.0)
     t_b = c / np.where(one_above, c - b, 1.0)
     alpha_c = np.where(one_above, t_a * t_b, 0.0)
-    sum_c = pc + (pc + (pa - pc) * t_a[..., None]) + (pc + (pb - pc) * t_b[..., None])
     # Corner at the bottom vertex (two vertices above): the immersed part itself.
     s_b = -a / np.where(two_above, b - a, 1.0)
     s_c = -a / np.where(two_above, c - a, 1.0)
     alpha_a = np.where(two_above, s_b * s_c, 0.0)
-    sum_a = pa + (pa + (pb - pa) * s_b[..., None]) + (pa + (pc - pa) * s_c[..., None])
 
-    use_full = (all_under | one_above).astype(p.dtype)
+    use_full = (all_under | one_above).astype(a.dtype)
     frac = use_full * 1.0 - alpha_c + alpha_a
-    moment = (use_full[..., None] * ((pa + pb + pc) / 3.0)
-              - alpha_c[..., None] * sum_c / 3.0 + alpha_a[..., None] * sum_a / 3.0)
     wet = frac > 1e-14
-    # A dry triangle gets its own centroid (its force is zero anyway).
-    mean = (p[..., 0, :] + p[..., 1, :] + p[..., 2, :]) / 3.0
-    centroid = np.where(wet[..., None], moment / np.where(wet, frac, 1.0)[..., None], mean)
+    safe_frac = np.where(wet, frac, 1.0)
+    centroid = []
+    for d in range(3):
+        sum_c = pc[d] + (pc[d] + (pa[d] - pc[d]) * t_a) + (pc[d] + (pb[d] - pc[d]) * t_b)
+        sum_a = pa[d] + (pa[d] + (pb[d] - pa[d]) * s_b) + (pa[d] + (pc[d] - pa[d]) * s_c)
+        moment = use_full * ((pa[d] + pb[d] + pc[d]) / 3.0) - alpha_c * sum_c / 3.0 + alpha_a * sum_a / 3.0
+        # A dry triangle gets its own centroid (its force is zero anyway).
+        mean = (P[0][d] + P[1][d] + P[2][d]) / 3.0
+        centroid.append(np.where(wet, moment / safe_frac, mean))
     return frac, centroid
 
 
-def water_force(stone: NpStone, water: NpWater, x, R, v, omega):
-    """Total water force (B, 3), torque about the centre of mass (B, 3), wetted area (B,).
+def water_force(stone: NpStone, water: NpWater, model, x, R, v, omega):
+    """Total water force (B, 3), torque about the centre of mass (B, 3) and wetted area (B,).
 
-    Also returns the world-frame triangles (B, F, 3, 3), whose heights the step reuses.
+    ``model`` is the :class:`jaxskip.forces.ForceModel` (its ``faces`` and ``velocity`` are used).
+
+    Also returns the vertex heights (B, F, 3), which the step reuses for the gap to the water.
     """
-    tri = x[:, None, None, :] + _rotate(R, stone.triangles)
-    normals = _rotate(R, stone.normals)
-    frac, centroid = immersed_areas(tri)
+    P = _world_vertices(stone, R, x)
+    nb = stone.normals
+    N = [R[:, i, 0, None] * nb[None, :, 0] + R[:, i, 1, None] * nb[None, :, 1] + R[:, i, 2, None] * nb[None, :, 2]
+         for i in range(3)]
+    frac, cen = immersed_areas(P)
     area = frac * stone.areas
-    r = centroid - x[:, None, :]
-    vel = v[:, None, :] + _cross(omega[:, None, :], r)
+    r = [cen[i] - x[:, i, None] for i in range(3)]
+    if model.velocity == "local":  # each triangle's own velocity v + ω × r
+        w = [omega[:, i, None] for i in range(3)]
+        V = [v[:, 0, None] + (w[1] * r[2] - w[2] * r[1]),
+             v[:, 1, None] + (w[2] * r[0] - w[0] * r[2]),
+             v[:, 2, None] + (w[0] * r[1] - w[1] * r[0])]
+    else:  # "body": every triangle sees the centre-of-mass velocity
+        V = [np.broadcast_to(v[:, i, None], area.shape) for i in range(3)]
 
-    n_v = _sum3(normals * vel)
-    v2 = _sum3(vel * vel)
+    n_v = N[0] * V[0] + N[1] * V[1] + N[2] * V[2]
+    v2 = V[0] * V[0] + V[1] * V[1] + V[2] * V[2]
     q = 0.5 * water.rho_water * area
-    v_t = vel - n_v[..., None] * normals
     sign = np.where(n_v >= 0.0, 1.0, -1.0)
-    lift = (-water.c_lift * q * v2 * sign)[..., None] * normals
+    lift = -water.c_lift * q * v2 * sign
     speed = np.where(v2 > 0.0, np.sqrt(np.where(v2 > 0.0, v2, 1.0)), 0.0)
-    friction = (-water.c_friction * q * speed)[..., None] * v_t
-    force = np.where((n_v > 0.0)[..., None], lift + friction, 0.0)  # leading faces only
+    fric = -water.c_friction * q * speed
+    f = [lift * N[i] + fric * (V[i] - n_v * N[i]) for i in range(3)]
+    if model.faces == "leading":  # only faces moving into the water are loaded
+        leading = n_v > 0.0
+        f = [np.where(leading, fi, 0.0) for fi in f]
 
-    torque = np.sum(_cross(r, force), axis=1)
-    return np.sum(force, axis=1), torque, np.sum(area, axis=1), tri
+    force = np.stack([np.sum(fi, axis=1) for fi in f], axis=-1)
+    torque = np.stack([np.sum(r[1] * f[2] - r[2] * f[1], axis=1),
+                       np.sum(r[2] * f[0] - r[0] * f[2], axis=1),
+                       np.sum(r[0] * f[1] - r[1] * f[0], axis=1)], axis=-1)
+    z = np.stack([P[0][2], P[1][2], P[2][2]], axis=-1)
+    return force, torque, np.sum(area, axis=1), z
 
 
 # ---------------------------------------------------------------------------
@@ -312,14 +350,14 @@ def initial_state(throws: dict, stone: NpStone) -> dict:
         [ca * np.cos(t["heading"]), ca * np.sin(t["heading"]), -np.sin(t["attack"])], axis=-1)
     zero = np.zeros(B)
     position = np.stack([zero, zero, t["height"] - lowest], axis=-1)
-    return dict(position=position, velocity=velocity, orientation=q,
-                angular_velocity=t["spin"][:, None] * R[:, :, 2], time=zero.copy())
+    return {"position": position, "velocity": velocity, "orientation": q,
+            "angular_velocity": t["spin"][:, None] * R[:, :, 2], "time": zero.copy()}
 
 
 def _new_tracker(B: int) -> dict:
     i0 = np.zeros(B, dtype=np.int32)
-    return dict(alive=np.ones(B, dtype=bool), outcome=i0.copy(), phase=i0.copy(), bounces=i0.copy(),
-                contacts=i0.copy(), contact_steps=i0.copy(), alive_steps=i0.copy())
+    return {"alive": np.ones(B, dtype=bool), "outcome": i0.copy(), "phase": i0.copy(), "bounces": i0.copy(),
+            "contacts": i0.copy(), "contact_steps": i0.copy(), "alive_steps": i0.copy()}
 
 
 def step(state: dict, tr: dict, stone: NpStone, water: NpWater, config) -> tuple[dict, dict]:
@@ -331,10 +369,9 @@ def step(state: dict, tr: dict, stone: NpStone, water: NpWater, config) -> tuple
     R = quat_to_matrix(q)
     L = _matvec(_congruence(R, stone.inertia), w)
     omega = _matvec(_congruence(R, stone.inv_inertia), L)  # from L, as the JAX derivative does
-    F, tau, wet_area, tri = water_force(stone, water, x, R, v, omega)
+    F, tau, wet_area, z = water_force(stone, water, config.force, x, R, v, omega)
     a0 = F / stone.mass + gvec
 
-    z = tri[..., 2]
     gap = np.min(z, axis=(1, 2))
     top = np.max(z, axis=(1, 2))
 
@@ -363,9 +400,9 @@ def step(state: dict, tr: dict, stone: NpStone, water: NpWater, config) -> tuple
                                          np.where(t >= config.duration, TIME_LIMIT, RUNNING))))
     outcome = np.where(alive0, outcome, tr["outcome"])
     alive = alive0 & (outcome == RUNNING)
-    tr1 = dict(alive=alive, outcome=outcome.astype(np.int32), phase=phase.astype(np.int32),
-               bounces=tr["bounces"] + bounce, contacts=tr["contacts"] + begin,
-               contact_steps=tr["contact_steps"] + (alive & wet), alive_steps=tr["alive_steps"] + alive)
+    tr1 = {"alive": alive, "outcome": outcome.astype(np.int32), "phase": phase.astype(np.int32),
+           "bounces": tr["bounces"] + bounce, "contacts": tr["contacts"] + begin,
+           "contact_steps": tr["contact_steps"] + (alive & wet), "alive_steps": tr["alive_steps"] + alive}
 
     # Semi-implicit Euler, gravity exact; angular-momentum kick, then free rotation.
     dt3 = dt[:, None]
@@ -377,14 +414,14 @@ def step(state: dict, tr: dict, stone: NpStone, water: NpWater, config) -> tuple
     w1 = _matvec(_congruence(quat_to_matrix(q1), stone.inv_inertia), L1)
 
     keep = alive[:, None]
-    state1 = dict(position=np.where(keep, x1, x), velocity=np.where(keep, v1, v),
-                  orientation=np.where(keep, q1, q), angular_velocity=np.where(keep, w1, w),
-                  time=np.where(alive, t + dt, t))
+    state1 = {"position": np.where(keep, x1, x), "velocity": np.where(keep, v1, v),
+              "orientation": np.where(keep, q1, q), "angular_velocity": np.where(keep, w1, w),
+              "time": np.where(alive, t + dt, t)}
     return state1, tr1
 
 
 def simulate_numpy(throws: dict, stone: NpStone, water: NpWater, config, *, steps: int | None = None,
-                   early_exit: bool = False) -> dict:
+                   early_exit: bool = False, snapshots=()) -> dict:
     """Simulate a batch of throws on flat water with NumPy (float64).
 
     Parameters
@@ -396,6 +433,7 @@ def simulate_numpy(throws: dict, stone: NpStone, water: NpWater, config, *, step
     config : :class:`jaxskip.SimConfig` (default model only; see the module docstring).
     steps : steps to run (default ``config.max_steps``, as the JAX scan).
     early_exit : stop as soon as every throw is out of play (the JAX scan never does).
+    snapshots : step counts after which to keep a copy of the state (for comparisons).
 
     Returns
     -------
@@ -403,17 +441,20 @@ def simulate_numpy(throws: dict, stone: NpStone, water: NpWater, config, *, step
     ``outcome_name``, ``position``, ``velocity``, ``orientation``,
     ``angular_velocity``, ``time`` (final state, per throw), ``alive_steps`` (steps
     each throw advanced), ``contact_steps``, ``steps_run`` (steps executed for the
-    batch) and ``early_exit`` (whether the loop stopped before ``steps``).
+    batch), ``early_exit`` (whether the loop stopped before ``steps``) and
+    ``snapshots`` ({step count: state dict}).
     """
     _check_config(config)
     n = config.max_steps if steps is None else int(steps)
     state = initial_state(throws, stone)
     tr = _new_tracker(state["time"].shape[0])
-    done, stopped_early = 0, False
+    done, stopped_early, snaps, wanted = 0, False, {}, set(snapshots)
     with np.errstate(invalid="ignore", divide="ignore"):
         while done < n:
             state, tr = step(state, tr, stone, water, config)
             done += 1
+            if done in wanted:
+                snaps[done] = {k: v.copy() for k, v in state.items()}
             if early_exit and not tr["alive"].any():
                 stopped_early = done < n
                 break
@@ -421,5 +462,5 @@ def simulate_numpy(throws: dict, stone: NpStone, water: NpWater, config, *, step
     return dict(
         bounces=tr["bounces"], contacts=tr["contacts"], outcome=outcome,
         outcome_name=[OUTCOMES[i] for i in outcome], alive_steps=tr["alive_steps"],
-        contact_steps=tr["contact_steps"], steps_run=done, early_exit=stopped_early, **state,
+        contact_steps=tr["contact_steps"], steps_run=done, early_exit=stopped_early, snapshots=snaps, **state,
     )

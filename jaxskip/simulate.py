@@ -88,9 +88,12 @@ class SimConfig:
     """Below this speed [m/s] in the water the stone counts as stopped."""
     record: bool = True
     """Return per-step records (time, position, attitude, wetted area); off for big batches."""
-    checkpoint: int = 0
-    """0: plain scan. k > 0: nested scan with ``jax.checkpoint`` on segments of k steps
-    (``max_steps`` must divide by k); memory ~ (max_steps/k + k) states in reverse mode."""
+    checkpoint: int = 1
+    """Reverse-mode memory/time trade-off (no effect on a forward run). 1 (default): each step is
+    rematerialised (``jax.checkpoint``), only the carry is stored — on this CPU 2.6x faster than
+    storing every step's residuals and 0.2 MB instead of 45 MB of scratch for 1200 steps.
+    k > 1: nested scan with checkpointed segments of k steps (``max_steps`` must divide by k).
+    0: plain scan, every residual stored."""
 
     def __post_init__(self):
         check_range("dt", self.dt, 0.0, 0.01, unit="s", low_open=True)
@@ -419,7 +422,9 @@ def make_step(config: SimConfig, surface=_flat):
 
 def _scan(config: SimConfig, step, carry, stone, water):
     body = lambda c, _: step(c, stone, water)
-    if not config.checkpoint:
+    if config.checkpoint <= 1:
+        if config.checkpoint == 1:
+            body = jax.checkpoint(body)
         return jax.lax.scan(body, carry, None, length=config.max_steps)
     k = config.checkpoint
 
