@@ -191,12 +191,18 @@ def simulate(
     throw = Throw.from_degrees() if throw is None else throw
     if not isinstance(throw, Throw):
         raise ParameterError(f"throw must be a jaxskip.Throw, got {type(throw).__name__}")
+    if throw.shape != ():
+        raise ParameterError(f"simulate() takes one throw; this one has batch shape {throw.shape} "
+                             "(use jax.vmap(rollout) for batches)")
     config = SimConfig() if config is None else config
     chunk = check_int("chunk", chunk, minimum=1)
     water = water_params(config.force.law) if water is None else water
     rigid, name = resolve_stone(stone, mass=mass, density=density)
 
+    compiled_before = _chunk_runner.cache_info().currsize
     run = _chunk_runner(config, chunk)
+    if progress and _chunk_runner.cache_info().currsize > compiled_before:
+        print("  compiling the simulator for this configuration (once, ~2 s)...", file=sys.stderr, flush=True)
 
     state = initial_state(throw, rigid)
     carry = (state, _new_tracker(config.max_contacts, state.position.dtype))

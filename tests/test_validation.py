@@ -55,6 +55,8 @@ def test_stone_mass_and_density():
         simulate(stone="paper", mass=0.0)
     with pytest.raises(ParameterError, match="throw"):
         simulate(throw=(5.0, 20.0))
+    with pytest.raises(ParameterError, match="batch shape"):
+        simulate(throw=Throw.from_degrees(speed=[5.0, 6.0]))
 
 
 def test_batched_throw_is_validated_elementwise():
