@@ -14,10 +14,11 @@ The step length is :math:`\mathrm{clip}(t^*, \Delta t, \Delta t_{\max})`:
 a conservative-advancement jump through the air (``max_flight_step``
 bounds it so the free rotation stays accurate), and the fine ``dt`` as soon
 as the stone is within one step of the water or in it. Both integrators
-integrate gravity exactly, so a jump follows the exact parabola. Without
-spin a flight costs about a dozen steps; with spin the bound must allow for
-the rim speed :math:`|\omega| R` and the jumps shrink (at 20 rev/s a flight
-costs ~100 steps). A contact costs ``contact_time / dt``.
+integrate gravity exactly, so a jump follows the exact parabola. The bound
+must allow for the rim speed :math:`|\omega| R`, so spin shortens the jumps:
+the default throw (20 rev/s) crosses its 0.15 s of air in 252 steps instead
+of 615 at fixed ``dt`` (179 instead of 843 without spin). A contact costs
+``contact_time / dt``.
 
 Integrators
 -----------
