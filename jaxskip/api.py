@@ -145,6 +145,7 @@ def resolve_stone(stone, *, mass=None, density=None) -> tuple[RigidStone, str]:
 @functools.lru_cache(maxsize=32)
 def _chunk_runner(config: SimConfig, chunk: int):
     """One compiled chunk of ``chunk`` steps per configuration (memoised: no recompiles)."""
+    config = dataclasses.replace(config, record=True)  # simulate() always returns the trajectory
     step = make_step(config)
     chunk_config = dataclasses.replace(config, max_steps=chunk, checkpoint=0)
 

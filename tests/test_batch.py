@@ -57,3 +57,11 @@ def test_simulate_reuses_its_compiled_chunk():
     simulate(Throw.from_degrees(speed=7.5, tilt=25.0, spin=12.0), config=config, chunk=500)
     simulate(Throw.from_degrees(speed=4.0), stone="paper", mass=0.1, config=config, chunk=500)
     assert runner._cache_size() == before == 1
+
+
+def test_simulate_accepts_a_batch_config():
+    """A config made for batches (record=False) still gives simulate() its trajectory."""
+    a = simulate(Throw.from_degrees(speed=6.0), config=SimConfig(record=False, max_steps=2000))
+    b = simulate(Throw.from_degrees(speed=6.0), config=SimConfig(max_steps=2000))
+    assert a.bounces == b.bounces and a.steps == b.steps == len(a.trajectory["time"])
+    assert a.distance == b.distance
