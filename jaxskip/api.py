@@ -43,10 +43,12 @@ class Contact:
     """Tilt at the end [rad]."""
 
     def to_dict(self) -> dict:
+        """JSON-ready: values that are not known (NaN, e.g. the tilt at the end of the last
+        contact when the stone never left the water) become ``None``."""
         d = dataclasses.asdict(self)
         d["duration"] = self.t_end - self.t_start
         d["tilt_change_deg"] = math.degrees(self.tilt_end - self.tilt_start)
-        return d
+        return {k: (v if math.isfinite(v) else None) for k, v in d.items()}
 
 
 @dataclasses.dataclass(frozen=True)

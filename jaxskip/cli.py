@@ -116,7 +116,7 @@ def _throw(args) -> int:
         out = result.to_dict()
         if args.plot:
             out["plot"] = str(args.plot)
-        print(json.dumps(out))
+        print(json.dumps(out, allow_nan=False))  # strict JSON: unknown values are null
     else:
         print(_summary(result))
         if args.plot:

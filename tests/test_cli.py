@@ -20,7 +20,8 @@ def test_default_throw_json_and_plot(tmp_path):
     png = tmp_path / "throw.png"
     p = run("throw", "--json", "--plot", str(png))
     assert p.returncode == 0, p.stderr
-    out = json.loads(p.stdout)  # exactly one JSON object on stdout
+    out = json.loads(p.stdout, parse_constant=lambda c: pytest.fail(f"non-strict JSON token {c}"))
+    # exactly one strict JSON object on stdout (no NaN/Infinity tokens)
     assert isinstance(out["bounces"], int) and out["bounces"] >= 5
     assert out["outcome"] == "sank" and out["distance"] > 1.0
     assert len(out["contacts"]) == out["bounces"] + 1
