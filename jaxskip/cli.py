@@ -8,6 +8,7 @@ one-line message naming the parameter, before anything is compiled.
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import json
 import math
 import sys
@@ -107,7 +108,7 @@ def _throw(args) -> int:
         raise ParameterError(f"--plot must end in .png, .pdf or .svg, got {args.plot!r}")
     progress = sys.stderr.isatty() and not args.json
     result = simulate(throw, stone, water=water, config=config, progress=progress)
-    result = type(result)(**{**result.__dict__, "stone_name": _stone_label(args.stone)})
+    result = dataclasses.replace(result, stone_name=_stone_label(args.stone))
     if args.plot:
         from .plotting import plot_throw
 

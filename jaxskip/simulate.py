@@ -46,7 +46,7 @@ import jax.numpy as jnp
 from . import quaternion as quat
 from ._checks import check_choice, check_int, check_positive, check_range
 from .body import RigidStone
-from .forces import ForceModel, WaterParams, water_force
+from .forces import ForceModel, WaterParams, water_force, world_triangles
 from .throw import Throw, attitude
 
 INTEGRATORS = ("euler", "rk4")
@@ -355,10 +355,11 @@ def make_step(config: SimConfig, surface=_flat):
         L = quat.rotate(_world_inertia(stone, R), state.angular_velocity)
         first = deriv(state.position, state.velocity, state.orientation, L)
         F, wet_area = first[1]
-        z = state.position[2] + quat.rotate(R, stone.triangles)[..., 2]
-        h = surface(state.position[0] + 0.0 * z, state.position[1] + 0.0 * z)
-        gap = jnp.min(z - h)
-        top = jnp.max(z - h)
+        # Height of every vertex above the water surface under it.
+        tri, _ = world_triangles(stone, state.position, R)
+        above = tri[..., 2] - surface(tri[..., 0], tri[..., 1])
+        gap = jnp.min(above)
+        top = jnp.max(above)
         dt, dry = _step_length(config, stone, water, state, gap, wet_area)
 
         # --- bookkeeping at the state at the start of the step ---

@@ -1,11 +1,13 @@
 """Rigid-body dynamics: exact free flight, torque-free rotation, conservation laws."""
 
+import dataclasses
+
 import jax
 import jax.numpy as jnp
 import numpy as np
 import pytest
 
-from jaxskip import SimConfig, Throw, clanet_disk, ellipsoid_pebble, rigid_stone, rollout_jit
+from jaxskip import SimConfig, Throw, clanet_disk, ellipsoid_pebble, initial_state, rigid_stone, rollout_jit
 from jaxskip import quaternion as quat
 from jaxskip.simulate import free_rotation
 
@@ -76,10 +78,9 @@ def test_torque_free_flight_conserves_angular_momentum_and_energy(integrator, wa
     stone = rigid_stone(ellipsoid_pebble(), density=2650.0)  # asymmetric: I1 != I2 != I3
     throw = Throw.create(speed=3.0, tilt=0.4, attack=-0.5, spin=80.0, height=3.0)
     config = SimConfig(integrator=integrator, max_steps=300, duration=0.5, dt=1e-3, max_flight_step=2e-3)
-    state0 = jax.jit(lambda t, s: __import__("jaxskip").initial_state(t, s))(throw, stone)
+    state0 = jax.jit(initial_state)(throw, stone)
     # add a wobble so that the rotation is not about a principal axis
-    state0 = state0.__class__(state0.position, state0.velocity, state0.orientation,
-                              state0.angular_velocity + jnp.array([6.0, -4.0, 0.0]), state0.time)
+    state0 = dataclasses.replace(state0, angular_velocity=state0.angular_velocity + jnp.array([6.0, -4.0, 0.0]))
     from jaxskip.simulate import _new_tracker, _scan, make_step
 
     step = make_step(config)
@@ -97,3 +98,17 @@ def test_torque_free_flight_conserves_angular_momentum_and_energy(integrator, wa
     np.testing.assert_allclose(L1, L0, rtol=1e-10, atol=1e-14)
     # The splitting's energy error is bounded (no drift) and O(h^2) in the asymmetry.
     assert abs(E1 / E0 - 1) < 2e-6
+
+
+def test_surface_is_sampled_under_each_vertex(paper, water):
+    """The water height is read under every vertex, not at the centre of mass: with water 1 m up
+    only within 1 cm of the centre (x), the rim is dry, so the stone has not sunk."""
+    surface = lambda x, y: jnp.where(jnp.abs(x) < 0.01, 1.0, -1.0)
+    config = SimConfig(max_steps=1, record=False)
+    from jaxskip.simulate import OUTCOMES, make_step, _new_tracker
+
+    step = make_step(config, surface)
+    state0 = initial_state(Throw.from_degrees(), paper)
+    (_, tracker), _ = jax.jit(lambda c: step(c, paper, water))((state0, _new_tracker(4, jnp.float64)))
+    assert OUTCOMES[int(tracker.outcome)] == "running"
+    assert int(tracker.contacts) == 1  # the centre triangles are wet
