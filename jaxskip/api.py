@@ -149,7 +149,7 @@ def _chunk_runner(config: SimConfig, chunk: int):
     """One compiled chunk of ``chunk`` steps per configuration (memoised: no recompiles)."""
     config = dataclasses.replace(config, record=True)  # simulate() always returns the trajectory
     step = make_step(config)
-    chunk_config = dataclasses.replace(config, max_steps=chunk, checkpoint=0)
+    chunk_config = dataclasses.replace(config, max_steps=chunk, segment=min(config.segment, chunk), checkpoint=0)
 
     @jax.jit
     def run(carry, stone, water):

@@ -53,14 +53,32 @@ def test_fixed_attitude_gradient_of_a_whole_throw(paper, water):
 
 
 def test_checkpointed_gradients_equal_plain(paper, water):
-    """Per-step (default), segmented and no rematerialisation give the same gradient."""
-    plain = SimConfig(record=False, max_steps=300, duration=100.0, checkpoint=0)
+    """Nested rematerialisation (default), no rematerialisation and any segment length (with a
+    remainder segment, or one step per segment) give the same gradient."""
+    plain = SimConfig(record=False, max_steps=300, duration=100.0, checkpoint=0, segment=300)
     base = Throw.from_degrees()
-    grads = [jax.jit(jax.grad(lambda t, c=c: rollout(c, t, paper, water)[0].position[0]))(base)
-             for c in (plain, dataclasses.replace(plain, checkpoint=1), dataclasses.replace(plain, checkpoint=30))]
+    configs = (plain, dataclasses.replace(plain, checkpoint=1, segment=50),
+               dataclasses.replace(plain, checkpoint=1, segment=7), dataclasses.replace(plain, segment=1))
+    grads = [jax.jit(jax.grad(lambda t, c=c: rollout(c, t, paper, water)[0].position[0]))(base) for c in configs]
     for g in grads[1:]:
         for name in FIELDS:
             np.testing.assert_allclose(float(getattr(g, name)), float(getattr(grads[0], name)), rtol=1e-10)
+
+
+def test_skipped_segments_match_stepping_to_the_end(paper, water):
+    """A throw that ends early: skipping whole dead segments gives the same final state, records
+    and gradient as stepping (frozen) through every step."""
+    t = Throw.from_degrees(speed=3.0, tilt=30.0, attack=20.0, spin=10.0)
+    one = SimConfig(max_steps=1200, duration=100.0, segment=1)
+    seg = dataclasses.replace(one, segment=64)  # 1200 = 18 * 64 + 48: a remainder segment too
+    (s1, tr1, r1), (s2, tr2, r2) = (jax.jit(lambda t, c=c: rollout(c, t, paper, water))(t) for c in (one, seg))
+    ended = int(np.argmax(np.asarray(r1.time)))  # first step of the frozen tail
+    assert not bool(tr1.alive) and ended < 1200 - 2 * 64  # whole segments were skipped
+    for a, b in zip(jax.tree_util.tree_leaves((s1, tr1, r1)), jax.tree_util.tree_leaves((s2, tr2, r2))):
+        np.testing.assert_array_equal(np.asarray(a), np.asarray(b))
+    g1, g2 = (jax.jit(jax.grad(lambda t, c=c: rollout(c, t, paper, water)[0].position[0]))(t) for c in (one, seg))
+    for name in FIELDS:
+        np.testing.assert_allclose(float(getattr(g2, name)), float(getattr(g1, name)), rtol=1e-12)
 
 
 def test_gradient_finite_when_starting_exactly_on_the_water(paper, water):
