@@ -20,6 +20,7 @@ True
 
 from ._checks import ParameterError
 from .api import Contact, ThrowResult, resolve_stone, simulate
+from .batch import BatchResult, simulate_batch
 from .body import RigidStone, rigid_stone
 from .forces import ForceModel, WaterParams, water_params
 from .mesh import MassProperties, MeshError, TriMesh, mass_properties, read_obj, validate_mesh, write_obj
@@ -28,10 +29,10 @@ from .stones import BUILTIN_STONES, clanet_disk, disk, ellipsoid_pebble, irregul
 from .throw import Throw
 
 __all__ = [
-    "BUILTIN_STONES", "Contact", "ForceModel", "MassProperties", "MeshError", "OUTCOMES", "ParameterError",
+    "BUILTIN_STONES", "BatchResult", "Contact", "ForceModel", "MassProperties", "MeshError", "OUTCOMES", "ParameterError",
     "Record", "RigidStone", "SimConfig", "StoneState", "Throw", "ThrowResult", "Tracker", "TriMesh", "WaterParams",
     "clanet_disk", "disk", "ellipsoid_pebble", "initial_state", "irregular_pebble", "load_stone", "make_step",
     "mass_properties", "paper_stone", "read_obj", "resolve_stone", "rigid_stone", "rollout", "rollout_jit",
-    "simulate", "validate_mesh", "water_params", "write_obj",
+    "simulate", "simulate_batch", "validate_mesh", "water_params", "write_obj",
 ]
 __version__ = "0.1.0"

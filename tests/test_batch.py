@@ -4,7 +4,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from jaxskip import SimConfig, Throw, rollout, simulate
+from jaxskip import OUTCOMES, SimConfig, Throw, rollout, simulate
 from jaxskip.api import _chunk_runner
 
 
@@ -65,3 +65,20 @@ def test_simulate_accepts_a_batch_config():
     b = simulate(Throw.from_degrees(speed=6.0), config=SimConfig(max_steps=2000))
     assert a.bounces == b.bounces and a.steps == b.steps == len(a.trajectory["time"])
     assert a.distance == b.distance
+
+
+def test_pool_equals_vmapped_rollout(paper, water):
+    """simulate_batch (lanes refilled as throws finish) gives what vmap(rollout) gives."""
+    from jaxskip.batch import simulate_batch
+
+    config = SimConfig(record=False, max_steps=2400)
+    throws = Throw.from_degrees(speed=jnp.array([3.0, 8.0, 5.0, 2.0, 7.0, 6.0, 4.0]),
+                                tilt=jnp.array([20.0, 20.0, 35.0, 10.0, 5.0, 45.0, 15.0]), attack=10.0, spin=20.0)
+    pool = simulate_batch(throws, paper, water=water, config=config, lanes=3, chunk=200)
+    state, tr, _ = jax.jit(jax.vmap(lambda t: rollout(config, t, paper, water)))(throws)
+    np.testing.assert_array_equal(pool.bounces, np.asarray(tr.bounces))
+    np.testing.assert_array_equal(pool.outcome, np.asarray(tr.outcome))
+    np.testing.assert_allclose(pool.state.position, np.asarray(state.position), rtol=0, atol=1e-12)
+    np.testing.assert_allclose(pool.tracker.t_start, np.asarray(tr.t_start), rtol=0, atol=1e-12)
+    assert len(set(pool.bounces.tolist())) > 2 and pool.lane_steps < 7 * config.max_steps  # refills did happen
+    assert set(pool.outcome_names) <= set(OUTCOMES)

@@ -1,0 +1,213 @@
+"""Many throws to completion on a fixed pool of lanes (host driver; forward only).
+
+``jax.vmap(rollout)`` runs every throw of a batch for ``max_steps`` steps, and
+under ``vmap`` a finished throw still pays for each step (the skip becomes a
+select): in a tilt x attack grid only about one throw-step in eight is live.
+:func:`simulate_batch` keeps a fixed number of *lanes* busy instead. The
+compiled, vmapped step advances every lane ``chunk`` steps; after each chunk the
+host collects the throws that went out of play and refills their lanes with
+the next throws. Each throw still runs exactly the steps it would run alone
+(its lane is started fresh at a chunk boundary and stopped after
+``max_steps``), so the results equal ``vmap(rollout)``'s; only the idle work is
+gone. One compile per ``(config, lanes, chunk)``, memoised.
+
+For gradients use :func:`jaxskip.simulate.rollout` under ``jax.vmap``: this
+driver is a host loop.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import functools
+import math
+import sys
+import time
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+
+from ._checks import ParameterError, check_int
+from .api import resolve_stone
+from .forces import WaterParams, water_params
+from .simulate import OUTCOMES, STEP_LIMIT, SimConfig, StoneState, Tracker, _new_tracker, _scan, initial_state, make_step
+from .throw import Throw
+
+
+@dataclasses.dataclass(frozen=True)
+class BatchResult:
+    """Outcomes of ``N`` throws (host NumPy arrays, SI units)."""
+
+    bounces: np.ndarray
+    """(N,) int: contacts that ended with the stone leaving the water."""
+    n_contacts: np.ndarray
+    """(N,) int: contacts begun."""
+    outcome: np.ndarray
+    """(N,) int: index into :data:`jaxskip.simulate.OUTCOMES` (see :attr:`outcome_names`)."""
+    distance: np.ndarray
+    """(N,) horizontal distance from release to where the stone ended [m]."""
+    final_time: np.ndarray
+    """(N,) simulated time at the end [s]."""
+    state: StoneState
+    """Final states, every field with a leading axis N."""
+    tracker: Tracker
+    """Final trackers (contact logs ``t_start``/``t_end`` (N, K) [s], ...), leading axis N."""
+    throws: Throw
+    """The throws, shape (N,)."""
+    config: SimConfig
+    lanes: int
+    """Lanes in the pool (throws advanced together)."""
+    chunk: int
+    """Steps between refills."""
+    lane_steps: int
+    """Steps computed over all lanes, idle lanes included (the cost)."""
+    wall_time: float
+    """Wall-clock time, compile included [s]."""
+
+    @property
+    def outcome_names(self) -> np.ndarray:
+        """(N,) outcome strings (``sank``, ``stopped``, ``flipped``, ``time_limit``, ``step_limit``)."""
+        return np.asarray(OUTCOMES, dtype=object)[self.outcome]
+
+
+@functools.lru_cache(maxsize=16)
+def _pool(config: SimConfig, lanes: int, chunk: int):
+    """Compiled (advance, start, refill) for one pool shape (memoised: no recompiles)."""
+    config = dataclasses.replace(config, record=False)
+    step = make_step(config)
+    chunk_config = dataclasses.replace(config, max_steps=chunk, segment=chunk, checkpoint=0)
+
+    def advance(carry, stone, water):
+        return jax.vmap(lambda c: _scan(chunk_config, step, c, stone, water)[0])(carry)
+
+    def start(throws, stone):
+        state = jax.vmap(lambda t: initial_state(t, stone))(throws)
+        tr = _new_tracker(config.max_contacts, state.position.dtype)
+        return state, jax.tree_util.tree_map(lambda a: jnp.broadcast_to(a, (lanes,) + a.shape), tr)
+
+    def refill(carry, throws, fresh, stone):
+        new = start(throws, stone)
+        def pick(n, o):
+            return jnp.where(fresh.reshape((lanes,) + (1,) * (n.ndim - 1)), n, o)
+
+        return jax.tree_util.tree_map(pick, new, carry)
+
+    return jax.jit(advance), jax.jit(start), jax.jit(refill)
+
+
+def _take(tree, index):
+    return jax.tree_util.tree_map(lambda a: np.asarray(a)[index], tree)
+
+
+def simulate_batch(
+    throws: Throw,
+    stone="paper",
+    *,
+    mass: float | None = None,
+    density: float | None = None,
+    water: WaterParams | None = None,
+    config: SimConfig | None = None,
+    lanes: int = 256,
+    chunk: int | None = None,
+    progress: bool = False,
+) -> BatchResult:
+    """Simulate every throw of a batch to completion on a pool of ``lanes`` lanes.
+
+    Parameters
+    ----------
+    throws : a :class:`Throw` with one batch axis, shape (N,) (e.g. ``Throw.from_degrees`` of arrays).
+    stone, mass, density : as in :func:`jaxskip.simulate` (built-in name, ``.obj`` path, mesh or
+        :class:`RigidStone`; mass [kg] or density [kg/m^3]).
+    water : :class:`WaterParams`; default ``water_params(config.force.law)``.
+    config : :class:`SimConfig` (its ``record`` is ignored: no trajectories are kept).
+    lanes : throws advanced together (the vmapped batch); at most N are used.
+    chunk : steps between refills; must divide ``config.max_steps`` (default: the divisor
+        nearest 250). Smaller wastes less on finished throws, larger costs fewer host round trips.
+    progress : print a progress line to stderr.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from jaxskip import Throw
+    >>> from jaxskip.batch import simulate_batch
+    >>> throws = Throw.from_degrees(speed=np.array([4.0, 7.0]), tilt=20.0, attack=10.0, spin=20.0)
+    >>> r = simulate_batch(throws, lanes=2)
+    >>> r.bounces.shape, bool(r.bounces[1] >= r.bounces[0])
+    ((2,), True)
+    """
+    t0 = time.perf_counter()
+    if not isinstance(throws, Throw):
+        raise ParameterError(f"throws must be a jaxskip.Throw, got {type(throws).__name__}")
+    if len(throws.shape) != 1 or throws.shape[0] < 1:
+        raise ParameterError(f"throws must have exactly one batch axis with at least one throw; got shape {throws.shape}")
+    config = SimConfig() if config is None else config
+    lanes = check_int("lanes", lanes, minimum=1, maximum=1_000_000)
+    chunk = chunk_for(config.max_steps) if chunk is None else chunk
+    chunk = check_int("chunk", chunk, minimum=1, maximum=config.max_steps)
+    if config.max_steps % chunk:
+        raise ParameterError(f"chunk must divide config.max_steps ({config.max_steps}); got {chunk}")
+    water = water_params(config.force.law) if water is None else water
+    rigid, _ = resolve_stone(stone, mass=mass, density=density)
+
+    n = throws.shape[0]
+    lanes = min(lanes, n)
+    advance, start, refill = _pool(config, lanes, chunk)
+    host_throws = jax.tree_util.tree_map(np.asarray, throws)
+    chunks_max = config.max_steps // chunk
+
+    lane_throw = np.arange(lanes)          # throw index of each lane (-1: idle)
+    lane_chunks = np.zeros(lanes, int)      # chunks run by the lane's current throw
+    carry = start(_take(host_throws, lane_throw), rigid)
+    next_throw, finished, lane_steps = lanes, 0, 0
+    final_state = final_tracker = None
+    while finished < n:
+        carry = advance(carry, rigid, water)
+        lane_steps += lanes * chunk
+        lane_chunks += 1
+        state, tr = jax.device_get(carry)
+        busy = lane_throw >= 0
+        done = busy & (~np.asarray(tr.alive) | (lane_chunks >= chunks_max))
+        if done.any():
+            if final_state is None:  # allocate the outputs like the first lane's values
+                final_state = jax.tree_util.tree_map(lambda a: np.zeros((n,) + a.shape[1:], a.dtype), state)
+                final_tracker = jax.tree_util.tree_map(lambda a: np.zeros((n,) + a.shape[1:], a.dtype), tr)
+            idx = lane_throw[done]
+            for out, src in ((final_state, state), (final_tracker, tr)):
+                for o, s in zip(jax.tree_util.tree_leaves(out), jax.tree_util.tree_leaves(src)):
+                    o[idx] = s[done]
+            finished += int(done.sum())
+            # Refill the finished lanes with the next throws; lanes left without work go idle.
+            new = np.full(lanes, -1)
+            k = min(int(done.sum()), n - next_throw)
+            slots = np.flatnonzero(done)
+            new[slots[:k]] = np.arange(next_throw, next_throw + k)
+            next_throw += k
+            lane_throw = np.where(done, new, lane_throw)
+            lane_chunks = np.where(done, 0, lane_chunks)
+            if k:
+                fresh = np.zeros(lanes, bool)
+                fresh[slots[:k]] = True
+                carry = refill(carry, _take(host_throws, np.maximum(np.where(fresh, new, 0), 0)), fresh, rigid)
+        if progress:
+            print(f"\r  {finished}/{n} throws done ({lane_steps} lane-steps)", end="", file=sys.stderr, flush=True)
+    if progress:
+        print(file=sys.stderr)
+
+    outcome = np.where(final_tracker.alive, STEP_LIMIT, final_tracker.outcome).astype(np.int32)
+    final_tracker = dataclasses.replace(final_tracker, outcome=outcome)
+    release = np.asarray(jax.vmap(lambda t: initial_state(t, rigid).position)(throws))
+    distance = np.hypot(*(final_state.position[:, :2] - release[:, :2]).T)
+    return BatchResult(
+        bounces=final_tracker.bounces.astype(int), n_contacts=final_tracker.contacts.astype(int), outcome=outcome,
+        distance=distance, final_time=np.asarray(final_state.time), state=final_state, tracker=final_tracker,
+        throws=throws, config=config, lanes=lanes, chunk=chunk, lane_steps=lane_steps,
+        wall_time=time.perf_counter() - t0,
+    )
+
+
+def chunk_for(max_steps: int, target: int = 250) -> int:
+    """The divisor of ``max_steps`` nearest to ``target`` (a valid ``chunk`` for :func:`simulate_batch`)."""
+    max_steps = check_int("max_steps", max_steps, minimum=1)
+    divisors = [d for d in range(1, math.isqrt(max_steps) + 1) if max_steps % d == 0]
+    divisors += [max_steps // d for d in divisors]
+    return min(divisors, key=lambda d: (abs(d - target), d))
