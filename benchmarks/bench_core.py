@@ -38,7 +38,8 @@ How it measures
 
 Sections: ``single`` (one default throw: rollout, api.simulate, kernels per
 scan step), ``cold`` (first throw in a fresh interpreter), ``grid`` (4096
-throws, 64 x 64 tilt x attack; alive steps), ``breakdown`` (where a batched
+throws, 64 x 64 tilt x attack; alive steps), ``pool`` (the same grid with
+``simulate_batch``: lanes refilled as throws finish), ``breakdown`` (where a batched
 step's time goes), ``throughput`` / ``numpy`` (256 throws, JAX vs the NumPy
 baseline of ``numpy_baseline.py``), ``gradient`` (reverse mode through a full
 throw, with and without checkpointing) and ``check`` (NumPy vs JAX in
@@ -70,8 +71,9 @@ MODES = {
         "grid_steps": 300, "grid_f64_steps": 300, "grid_repeats": 2, "grid_alive": False, "grid_dtypes": ("f32",),
         "bd_side": 32, "bd_dtypes": ("f32",),
         "tp_steps": 300, "tp_repeats": 3, "np_steps": 300, "tp_dtypes": ("f32", "f64"),
-        "grad_steps": 12000, "grad_checkpoints": (0, 1, 120), "grad_repeats": 2, "grad_dtypes": ("f32",),
+        "grad_steps": 12000, "grad_checkpoints": (0, 1), "grad_repeats": 2, "grad_dtypes": ("f32",),
         "check_throws": "small", "check_steps": 3000,
+        "pool_grid": 32, "pool_lanes": (256,), "pool_dtypes": ("f32",),
     },
     "full": {
         "repeats": 5, "single_dtypes": ("f32", "f64"), "cold_dtypes": ("f32", "f64"),
@@ -79,9 +81,10 @@ MODES = {
         "grid_dtypes": ("f32", "f64"),
         "bd_side": 64, "bd_dtypes": ("f32", "f64"),
         "tp_steps": 2000, "tp_repeats": 3, "np_steps": 2000, "tp_dtypes": ("f32", "f64"),
-        "grad_steps": 12000, "grad_checkpoints": (0, 1, 120), "grad_repeats": 3, "grad_dtypes": ("f32", "f64"),
+        "grad_steps": 12000, "grad_checkpoints": (0, 1), "grad_repeats": 3, "grad_dtypes": ("f32", "f64"),
         "grad_short_steps": (1200,),
         "check_throws": "grid", "check_steps": 12000,
+        "pool_grid": 64, "pool_lanes": (256, 1024), "pool_dtypes": ("f32", "f64"),
     },
 }
 """Sizes per mode. 12000 steps = SimConfig().max_steps; the grid is 64 x 64 in both modes (fewer steps
@@ -420,6 +423,37 @@ def section_grid(dtype, p):
     return out
 
 
+def section_pool(dtype, p):
+    """The same tilt x attack grid to completion with jaxskip.batch.simulate_batch (lanes refilled)."""
+    jax = _setup_jax(dtype)
+    import numpy as np
+
+    from jaxskip import SimConfig
+    from jaxskip.batch import simulate_batch
+
+    stone, water, _ = _setup_model()
+    side = p["pool_grid"]
+    tilt, attack = _grid_values(side, side)
+    throws = _batched_throw(_throws_si(tilt, attack))
+    config = SimConfig(record=False)
+    out = {"dtype": str(throws.speed.dtype), "throws": int(tilt.shape[0]), "runs": {}}
+    for lanes in p["pool_lanes"]:
+        t0 = time.perf_counter()
+        first = simulate_batch(throws, stone, water=water, config=config, lanes=lanes)
+        t1 = time.perf_counter()
+        r = simulate_batch(throws, stone, water=water, config=config, lanes=lanes)
+        t2 = time.perf_counter()
+        assert np.array_equal(first.bounces, r.bounces)
+        out["runs"][str(lanes)] = {
+            "first_s": t1 - t0, "run_s": t2 - t1, "chunk": r.chunk,
+            "lane_steps_per_throw": r.lane_steps / out["throws"], "outcomes": _outcome_counts(r.outcome),
+            "bounces_mean": float(r.bounces.mean()), "bounces_max": int(r.bounces.max())}
+        _log(f"  {out['throws']} throws, {lanes} lanes, chunk {r.chunk}: first call (compile included) "
+             f"{t1 - t0:.1f} s, then {t2 - t1:.1f} s; {r.lane_steps / out['throws']:.0f} lane-steps per throw; "
+             f"bounces mean {r.bounces.mean():.2f}, max {r.bounces.max()}; outcomes {out['runs'][str(lanes)]['outcomes']}")
+    return out
+
+
 def _alive_steps(jax, throws, config, stone, water, chunk=1000):
     """Run a batch in chunks until every throw is out of play.
 
@@ -663,7 +697,7 @@ def _compare(jax, np, throws, config, stone, water):
     return out
 
 
-SECTIONS = {"single": section_single, "grid": section_grid, "breakdown": section_breakdown,
+SECTIONS = {"single": section_single, "grid": section_grid, "pool": section_pool, "breakdown": section_breakdown,
             "throughput": section_throughput, "numpy": section_numpy, "gradient": section_gradient,
             "check": section_check}
 
@@ -830,6 +864,11 @@ def summarise(res):
                 add(f"4096-throw grid, early exit after {al['steps_run']} steps [{dt}]", al["early_exit_grid_s"], "s",
                     2.0, "<= 2 s", note=f"{'EXTRAPOLATED; ' if al['early_exit_extrapolated'] else ''}alive steps "
                                         f"mean {al['alive_mean']:.0f}, max {al['alive_max']} on {al['on']}")
+        pl = g("pool", dt)
+        for lanes, r in (pl or {}).get("runs", {}).items():
+            add(f"{pl['throws']}-throw grid to completion, simulate_batch {lanes} lanes [{dt}]", r["run_s"], "s",
+                2.0 if pl["throws"] == 4096 else None, "<= 2 s" if pl["throws"] == 4096 else "",
+                note=f"first call incl. compile {r['first_s']:.1f} s; {r['lane_steps_per_throw']:.0f} lane-steps/throw")
     np_r = g("numpy", "f64")
     for dt in ("f32", "f64"):
         tp = g("throughput", dt)
@@ -900,7 +939,7 @@ def main(argv=None):
     ap.add_argument("--quick", action="store_true", help="smaller sizes (< 2 minutes)")
     ap.add_argument("--check", action="store_true", help="only validate the NumPy baseline against JAX (float64)")
     ap.add_argument("--json", metavar="PATH", help="also write all figures as JSON to PATH")
-    ap.add_argument("--sections", help="comma-separated subset of: single,cold,grid,breakdown,throughput,numpy,"
+    ap.add_argument("--sections", help="comma-separated subset of: single,cold,grid,pool,breakdown,throughput,numpy,"
                     "gradient,check "
                     "(SECTION:f32 or SECTION:f64 for one dtype)")
     ap.add_argument("--grid-steps", type=int, help="steps for the 4096-throw grid (12000: to completion, ~3 min)")
@@ -929,6 +968,7 @@ def main(argv=None):
         plan += [("single", d) for d in p["single_dtypes"]]
         plan += [("cold", d) for d in p["cold_dtypes"]]
         plan += [("grid", d) for d in p["grid_dtypes"]]
+        plan += [("pool", d) for d in p["pool_dtypes"]]
         plan += [("breakdown", d) for d in p["bd_dtypes"]]
         plan += [("throughput", d) for d in p["tp_dtypes"]] + [("numpy", "f64")]
         plan += [("gradient", d) for d in p["grad_dtypes"]]
@@ -939,6 +979,7 @@ def main(argv=None):
 
     titles = {"single": "one default throw", "cold": "first throw in a fresh interpreter",
               "grid": "4096 throws, 64 x 64 grid: tilt 5..45 deg x attack 0..30 deg, 7 m/s, 20 rev/s",
+              "pool": "the same grid to completion on a pool of lanes (jaxskip.batch.simulate_batch)",
               "breakdown": "where a batched step's time goes (batch of 4096 / 1024 throws, one step)",
               "throughput": "throughput at a batch of 256 throws (16 x 16 sub-grid)",
               "numpy": "NumPy baseline, same 256 throws",
