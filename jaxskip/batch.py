@@ -95,6 +95,15 @@ def _pool(config: SimConfig, lanes: int, chunk: int):
     return jax.jit(advance), jax.jit(start), jax.jit(refill)
 
 
+def _lane_sharding():
+    """Shard the lane axis over every local device (``None`` with one device)."""
+    devices = jax.local_devices()
+    if len(devices) == 1:
+        return None
+    mesh = jax.sharding.Mesh(np.array(devices), ("lanes",))
+    return jax.sharding.NamedSharding(mesh, jax.sharding.PartitionSpec("lanes"))
+
+
 def _take(tree, index):
     return jax.tree_util.tree_map(lambda a: np.asarray(a)[index], tree)
 
@@ -120,7 +129,9 @@ def simulate_batch(
         :class:`RigidStone`; mass [kg] or density [kg/m^3]).
     water : :class:`WaterParams`; default ``water_params(config.force.law)``.
     config : :class:`SimConfig` (its ``record`` is ignored: no trajectories are kept).
-    lanes : throws advanced together (the vmapped batch); at most N are used.
+    lanes : throws advanced together (the vmapped batch); at most N are used. With several local
+        JAX devices the lanes are sharded over all of them (``jax.sharding``; the count is
+        rounded up to a multiple of the device count).
     chunk : steps between refills; must divide ``config.max_steps`` (default: the divisor
         nearest 250). Smaller wastes less on finished throws, larger costs fewer host round trips.
     progress : print a progress line to stderr.
@@ -150,15 +161,21 @@ def simulate_batch(
     rigid, _ = resolve_stone(stone, mass=mass, density=density)
 
     n = throws.shape[0]
+    sharding = _lane_sharding()
     lanes = min(lanes, n)
+    if sharding is not None:
+        per = len(sharding.mesh.devices.flat)
+        lanes = -(-lanes // per) * per
     advance, start, refill = _pool(config, lanes, chunk)
     host_throws = jax.tree_util.tree_map(np.asarray, throws)
     chunks_max = config.max_steps // chunk
 
-    lane_throw = np.arange(lanes)          # throw index of each lane (-1: idle)
+    lane_throw = np.where(np.arange(lanes) < n, np.arange(lanes), -1)  # throw index of each lane (-1: idle)
     lane_chunks = np.zeros(lanes, int)      # chunks run by the lane's current throw
-    carry = start(_take(host_throws, lane_throw), rigid)
-    next_throw, finished, lane_steps = lanes, 0, 0
+    carry = start(_take(host_throws, np.maximum(lane_throw, 0)), rigid)
+    if sharding is not None:
+        carry = jax.device_put(carry, sharding)
+    next_throw, finished, lane_steps = min(lanes, n), 0, 0
     final_state = final_tracker = None
     while finished < n:
         carry = advance(carry, rigid, water)

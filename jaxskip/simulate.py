@@ -182,6 +182,8 @@ class Record:
     """() immersed area [m^2]"""
     force: jax.Array
     """(3,) water force [N]"""
+    gap: jax.Array
+    """() height of the stone's lowest vertex above the water under it [m] (negative: immersed)"""
 
 
 def _gravity(water: WaterParams):
@@ -409,7 +411,7 @@ def make_step(config: SimConfig, surface=_flat):
         x1, v1, q1, w1 = _integrate(config, stone, water, surface, state, dt, first, dry)
         new = StoneState(x1, v1, q1, w1, t + dt)
         state1 = jax.tree_util.tree_map(lambda a, b: jnp.where(alive, a, b), new, state)
-        rec = Record(t, state.position, state.orientation, wet_area, F) if config.record else None
+        rec = Record(t, state.position, state.orientation, wet_area, F, gap) if config.record else None
         return (state1, tr1), rec
 
     def frozen_step(carry, stone, water):
@@ -425,7 +427,7 @@ def make_step(config: SimConfig, surface=_flat):
 def _frozen_record(state: StoneState) -> Record:
     """The record of a step taken out of play: the state repeats, no water force."""
     zero = 0.0 * state.time
-    return Record(state.time, state.position, state.orientation, zero, jnp.zeros(3) * zero)
+    return Record(state.time, state.position, state.orientation, zero, jnp.zeros(3) * zero, zero)
 
 
 def _frozen_records(carry, n: int):

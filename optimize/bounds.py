@@ -1,0 +1,129 @@
+r"""Search boxes over throw parameters, in user units at the edge and SI inside.
+
+A :class:`Box` holds, for each throw parameter, either an interval
+(searched) or a single value (held). Searched parameters are reparameterised
+so that an unconstrained optimiser never leaves the box:
+
+.. math:: \theta = \theta_{lo} + (\theta_{hi} - \theta_{lo})\,\sigma(u),
+          \qquad \sigma(u) = 1 / (1 + e^{-u}).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+
+from jaxskip import Throw
+from jaxskip._checks import ParameterError
+
+#: Physical limits of each throw parameter in user units: (low, high, unit).
+LIMITS = {
+    "speed": (0.1, 50.0, "m/s"),
+    "tilt": (-89.0, 89.0, "deg"),
+    "attack": (0.0, 89.0, "deg"),
+    "spin": (0.0, 200.0, "rev/s"),
+}
+#: The parameters a search may vary, in this order.
+PARAMETERS = tuple(LIMITS)
+#: The user's box of issue 4: a human throw (speed 3-12 m/s, tilt 5-45 deg, attack 0-30 deg, spin 0-20 rev/s).
+HUMAN_BOX = {"speed": (3.0, 12.0), "tilt": (5.0, 45.0), "attack": (0.0, 30.0), "spin": (0.0, 20.0)}
+
+
+def check_interval(name: str, value, low: float, high: float, *, unit: str = "") -> tuple[float, float]:
+    """Validate ``value = (lo, hi)``: finite, ``lo < hi``, inside ``[low, high]``; returns floats."""
+    try:
+        lo, hi = (float(v) for v in value)
+    except (TypeError, ValueError):
+        raise ParameterError(f"{name} must be a pair (low, high) of numbers, got {value!r}") from None
+    u = f" {unit}" if unit else ""
+    if not (math.isfinite(lo) and math.isfinite(hi)):
+        raise ParameterError(f"{name} must be finite, got ({lo}, {hi}){u}")
+    if lo > hi:
+        raise ParameterError(f"{name} is inverted: low {lo} > high {hi}{u}")
+    if lo == hi:
+        raise ParameterError(f"{name} is empty: low = high = {lo}{u} (give a single value to hold it instead)")
+    if lo < low or hi > high:
+        raise ParameterError(f"{name} must lie within [{low}, {high}]{u}, got ({lo}, {hi})")
+    return lo, hi
+
+
+@dataclasses.dataclass(frozen=True)
+class Box:
+    """Bounds of a search, user units (m/s, deg, rev/s). Static and hashable.
+
+    ``searched`` maps each varied parameter to ``(low, high)``; ``held`` maps
+    the others to a value. Build it with :func:`make_box`.
+    """
+
+    searched: tuple
+    """((name, low, high), ...) in :data:`PARAMETERS` order."""
+    held: tuple
+    """((name, value), ...) for the parameters kept fixed."""
+
+    @property
+    def names(self) -> tuple:
+        return tuple(n for n, _, _ in self.searched)
+
+    def to_throw(self, u) -> Throw:
+        """Unconstrained ``u`` (..., P) -> a :class:`Throw` inside the box (SI)."""
+        values = dict(self.held)
+        for i, (name, lo, hi) in enumerate(self.searched):
+            values[name] = lo + (hi - lo) * jax.nn.sigmoid(u[..., i])
+        shape = jnp.shape(u)[:-1]
+        full = {k: jnp.broadcast_to(jnp.asarray(v, dtype=jnp.result_type(float)), shape) for k, v in values.items()}
+        return Throw(speed=full["speed"], tilt=jnp.deg2rad(full["tilt"]), attack=jnp.deg2rad(full["attack"]),
+                     spin=2.0 * jnp.pi * full["spin"], height=jnp.full(shape, 0.001), heading=jnp.zeros(shape))
+
+    def to_user(self, u) -> dict:
+        """Unconstrained ``u`` (..., P) -> user-unit values of the searched parameters (host floats)."""
+        u = np.asarray(u, dtype=float)
+        return {name: lo + (hi - lo) / (1.0 + np.exp(-u[..., i])) for i, (name, lo, hi) in enumerate(self.searched)}
+
+    def from_user(self, values: dict) -> np.ndarray:
+        """User-unit values of the searched parameters -> unconstrained ``u`` (..., P)."""
+        cols = []
+        for name, lo, hi in self.searched:
+            f = np.clip((np.asarray(values[name], dtype=float) - lo) / (hi - lo), 1e-6, 1 - 1e-6)
+            cols.append(np.log(f / (1.0 - f)))
+        return np.stack(cols, axis=-1)
+
+    def throws_from_user(self, values: dict) -> Throw:
+        """Validated :class:`Throw` batch from user-unit arrays of the searched parameters."""
+        full = dict(self.held)
+        full.update(values)
+        return Throw.from_degrees(speed=full["speed"], tilt=full["tilt"], attack=full["attack"], spin=full["spin"])
+
+    def to_dict(self) -> dict:
+        return {"searched": {n: [lo, hi] for n, lo, hi in self.searched}, "held": dict(self.held)}
+
+
+def make_box(searched=None, held=None) -> Box:
+    """Validate a search box. ``searched``: {name: (low, high)} (default :data:`HUMAN_BOX`);
+    ``held``: {name: value} for the others (defaults: the default throw's values)."""
+    searched = dict(HUMAN_BOX if searched is None else searched)
+    held = dict(held or {})
+    for name in list(searched) + list(held):
+        if name not in LIMITS:
+            raise ParameterError(f"unknown throw parameter {name!r}; choose from {', '.join(PARAMETERS)}")
+    both = set(searched) & set(held)
+    if both:
+        raise ParameterError(f"parameters both searched and held: {sorted(both)}")
+    if not searched:
+        raise ParameterError("a search needs at least one searched parameter")
+    defaults = {"speed": 8.0, "tilt": 20.0, "attack": 5.0, "spin": 20.0}
+    out_s, out_h = [], []
+    for name in PARAMETERS:
+        low, high, unit = LIMITS[name]
+        if name in searched:
+            lo, hi = check_interval(name, searched[name], low, high, unit=unit)
+            out_s.append((name, lo, hi))
+        else:
+            v = float(held.get(name, defaults[name]))
+            if not (math.isfinite(v) and low <= v <= high):
+                raise ParameterError(f"{name} must lie within [{low}, {high}] {unit}, got {v}")
+            out_h.append((name, v))
+    return Box(tuple(out_s), tuple(out_h))

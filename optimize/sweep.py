@@ -1,0 +1,339 @@
+r"""Magic-angle sweeps: the bounce domain and the minimal speed for a bounce, resumable and sharded.
+
+Clanet, Hersen & Bocquet (Nature 427:29, 2004) threw an aluminium disk
+(R = 2.5 cm, 2.75 mm) from a catapult at Ω = 65 rev/s and found that a tilt
+:math:`\alpha \approx 20°` minimises the speed needed for a bounce (about
+2.5 m/s) and that disks tilted beyond about 45° do not bounce. Their analysis
+is the high-spin limit, where the tilt stays constant during the impact: the
+defaults here are their disk (``stone="clanet"``), ``attitude="fixed"`` and
+their reference spin, impact angle :math:`\beta = 20°` and speed 3.5 m/s.
+
+* :func:`bounce_domain` — bounce counts on a (tilt, attack) grid at one speed.
+* :func:`minimal_speed` — :math:`U_{min}(\alpha)` by batched bisection: every
+  tilt of the sweep is bisected at once (one :func:`jaxskip.simulate_batch`
+  call per iteration), assuming that a throw that bounces still bounces when
+  faster (true of the fixed-attitude model over the range swept; checked by the
+  result's ``bounces_at_high``). The answer is bracketed to
+  ``(high - low) / 2**iterations``.
+
+Scale: the work is cut into chunks; each finished chunk is written atomically
+(temporary file + ``os.replace``) to ``out_dir/chunk-NNNNN.json`` and a re-run
+loads it instead of computing it again, so an interrupted sweep resumes where
+it stopped and gives the same file as an uninterrupted one. With
+``num_shards > 1`` a machine computes only the chunks ``j`` with
+``j % num_shards == shard_index``; :func:`merge` joins the chunk folders of all
+machines. Every local JAX device is used (the lanes of
+:func:`jaxskip.simulate_batch` are sharded over them).
+"""
+
+from __future__ import annotations
+
+import csv
+import dataclasses
+import json
+import math
+import os
+import sys
+import tempfile
+from pathlib import Path
+
+import numpy as np
+
+from jaxskip import SimConfig, Throw, simulate_batch
+from jaxskip._checks import ParameterError, check_int, check_positive, check_range
+
+from .bounds import check_interval
+
+#: Clanet et al.'s reference throw (physics.md §4).
+REFERENCE = {"speed": 3.5, "spin": 65.0, "tilt": 20.0, "attack": 20.0}
+
+
+@dataclasses.dataclass(frozen=True)
+class SweepSpec:
+    """A sweep's resolved configuration (user units: m/s, degrees, rev/s); stored with its results."""
+
+    kind: str
+    """``"domain"`` (bounce counts on a tilt x attack grid) or ``"umin"`` (minimal speed per tilt)."""
+    tilts: tuple
+    """Tilts [deg]."""
+    attacks: tuple
+    """Impact angles [deg] (one for ``umin``)."""
+    speed: float
+    """Speed [m/s] of a ``domain`` sweep."""
+    speed_range: tuple
+    """``(low, high)`` [m/s] bracketing the bisection of a ``umin`` sweep."""
+    iterations: int
+    """Bisection iterations of a ``umin`` sweep."""
+    spin: float
+    """Spin [rev/s]."""
+    stone: str
+    """Built-in stone name or .obj path."""
+    attitude: str
+    """``"fixed"`` (tilt held: Clanet's high-spin limit) or ``"free"``."""
+    chunk_size: int
+    """Work items per chunk file (throws for ``domain``, tilts for ``umin``)."""
+
+    def to_dict(self) -> dict:
+        return {k: (list(v) if isinstance(v, tuple) else v) for k, v in dataclasses.asdict(self).items()}
+
+
+def make_spec(kind: str, *, tilts, attacks=(REFERENCE["attack"],), speed: float = REFERENCE["speed"],
+              speed_range=(0.5, 8.0), iterations: int = 10, spin: float = REFERENCE["spin"],
+              stone: str = "clanet", attitude: str = "fixed", chunk_size: int | None = None) -> SweepSpec:
+    """Validate a sweep's parameters (user units) before anything is compiled."""
+    if kind not in ("domain", "umin"):
+        raise ParameterError(f"kind must be 'domain' or 'umin', got {kind!r}")
+    tilts = tuple(float(check_range("tilt", t, -90.0, 90.0, unit="deg", low_open=True, high_open=True))
+                  for t in np.atleast_1d(np.asarray(tilts, dtype=float)))
+    attacks = tuple(float(check_range("attack", a, -90.0, 90.0, unit="deg")) for a in
+                    np.atleast_1d(np.asarray(attacks, dtype=float)))
+    if not tilts or not attacks:
+        raise ParameterError("a sweep needs at least one tilt and one attack angle")
+    if kind == "umin" and len(attacks) != 1:
+        raise ParameterError(f"a umin sweep takes one attack angle, got {len(attacks)}")
+    speed = float(check_positive("speed", speed, unit="m/s"))
+    lo, hi = check_interval("speed_range", speed_range, 0.0, 100.0, unit="m/s")
+    if lo <= 0.0:
+        raise ParameterError(f"speed_range must start above 0 m/s, got {lo}")
+    iterations = check_int("iterations", iterations, minimum=1, maximum=40)
+    spin = float(check_range("spin", spin, 0.0, 1000.0, unit="rev/s"))
+    if attitude not in ("fixed", "free"):
+        raise ParameterError(f"attitude must be 'fixed' or 'free', got {attitude!r}")
+    items = len(tilts) * len(attacks) if kind == "domain" else len(tilts)
+    chunk_size = items if chunk_size is None else check_int("chunk_size", chunk_size, minimum=1)
+    return SweepSpec(kind, tilts, attacks, speed, (lo, hi), iterations, spin, str(stone), attitude, chunk_size)
+
+
+def _config(spec: SweepSpec) -> SimConfig:
+    return SimConfig(record=False, attitude=spec.attitude)
+
+
+def _domain_chunk(spec: SweepSpec, index: np.ndarray, progress: bool) -> dict:
+    tilt = np.asarray(spec.tilts)[index // len(spec.attacks)]
+    attack = np.asarray(spec.attacks)[index % len(spec.attacks)]
+    throws = Throw.from_degrees(speed=np.full(len(index), spec.speed), tilt=tilt, attack=attack, spin=spec.spin)
+    r = simulate_batch(throws, spec.stone, config=_config(spec), progress=progress)
+    t_end = r.tracker.t_end[:, 0]
+    t_start = r.tracker.t_start[:, 0]
+    first = np.where(np.isfinite(t_end), t_end - t_start, np.nan)
+    return {"bounces": r.bounces.tolist(), "first_contact_time": [_num(x) for x in first]}
+
+
+def _umin_chunk(spec: SweepSpec, index: np.ndarray, progress: bool) -> dict:
+    tilt = np.asarray(spec.tilts)[index]
+    lo = np.full(len(index), spec.speed_range[0])
+    hi = np.full(len(index), spec.speed_range[1])
+
+    def bounces(speed):
+        throws = Throw.from_degrees(speed=speed, tilt=tilt, attack=spec.attacks[0], spin=spec.spin)
+        return simulate_batch(throws, spec.stone, config=_config(spec), progress=False).bounces
+
+    at_high = bounces(hi)
+    at_low = bounces(lo)
+    for i in range(spec.iterations):
+        mid = 0.5 * (lo + hi)
+        ok = bounces(mid) > 0
+        hi, lo = np.where(ok, mid, hi), np.where(ok, lo, mid)
+        if progress:
+            print(f"\r    bisection {i + 1}/{spec.iterations}", end="", file=sys.stderr, flush=True)
+    if progress:
+        print(file=sys.stderr)
+    umin = np.where(at_low > 0, spec.speed_range[0], np.where(at_high > 0, hi, np.nan))
+    return {"umin": [_num(x) for x in umin], "bounces_at_high": at_high.tolist(), "bounces_at_low": at_low.tolist()}
+
+
+def _num(x) -> float | None:
+    x = float(x)
+    return x if math.isfinite(x) else None
+
+
+def _items(spec: SweepSpec) -> int:
+    return len(spec.tilts) * len(spec.attacks) if spec.kind == "domain" else len(spec.tilts)
+
+
+def _chunks(spec: SweepSpec) -> list[np.ndarray]:
+    n = _items(spec)
+    return [np.arange(i, min(i + spec.chunk_size, n)) for i in range(0, n, spec.chunk_size)]
+
+
+def _write_atomic(path: Path, text: str) -> None:
+    """Write ``text`` to ``path`` so that a reader never sees a partial file."""
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=path.name, suffix=".tmp")
+    try:
+        with os.fdopen(fd, "w") as f:
+            f.write(text)
+            f.flush()
+            os.fsync(f.fileno())
+        os.replace(tmp, path)
+    except BaseException:
+        if os.path.exists(tmp):
+            os.unlink(tmp)
+        raise
+
+
+def run_sweep(spec: SweepSpec, out_dir=None, *, shard_index: int = 0, num_shards: int = 1,
+              progress: bool = False, _stop_after: int | None = None) -> dict | None:
+    """Compute the sweep's chunks (those of this shard), resuming from ``out_dir``.
+
+    Returns the assembled result (see :func:`assemble`) when every chunk is present in
+    ``out_dir`` (or when ``out_dir`` is None), else None (other shards still to run).
+    ``_stop_after`` (tests) raises ``KeyboardInterrupt`` after that many new chunks.
+    """
+    num_shards = check_int("num_shards", num_shards, minimum=1)
+    shard_index = check_int("shard_index", shard_index, minimum=0, maximum=num_shards - 1)
+    out = None if out_dir is None else Path(out_dir)
+    if out is not None:
+        _check_spec_file(out, spec)
+    chunks = _chunks(spec)
+    results, computed = {}, 0
+    for j, index in enumerate(chunks):
+        path = None if out is None else out / f"chunk-{j:05d}.json"
+        if path is not None and path.exists():
+            results[j] = json.loads(path.read_text())
+            continue
+        if j % num_shards != shard_index:
+            continue
+        if _stop_after is not None and computed >= _stop_after:
+            raise KeyboardInterrupt(f"stopped after {computed} chunks (test)")
+        if progress:
+            print(f"  chunk {j + 1}/{len(chunks)} ({len(index)} items)", file=sys.stderr, flush=True)
+        work = _domain_chunk if spec.kind == "domain" else _umin_chunk
+        data = {"chunk": j, "items": index.tolist(), **work(spec, index, progress)}
+        if path is not None:
+            _write_atomic(path, json.dumps(data, sort_keys=True))
+        results[j] = data
+        computed += 1
+    if len(results) < len(chunks):
+        return None
+    result = assemble(spec, [results[j] for j in range(len(chunks))])
+    if out is not None:
+        write_results(result, out)
+    return result
+
+
+def _check_spec_file(out: Path, spec: SweepSpec) -> None:
+    """``out/spec.json`` pins the sweep a folder belongs to: resuming another sweep there is refused."""
+    path = out / "spec.json"
+    text = json.dumps(spec.to_dict(), sort_keys=True, indent=1)
+    if path.exists():
+        if json.loads(path.read_text()) != json.loads(text):
+            raise ParameterError(f"out_dir {str(out)!r} holds a different sweep (see its spec.json); "
+                                 "use a new folder")
+    else:
+        _write_atomic(path, text)
+
+
+def assemble(spec: SweepSpec, chunks: list[dict]) -> dict:
+    """Join chunk results (in chunk order) into the sweep's result dictionary."""
+    def cat(key):
+        return [v for c in chunks for v in c[key]]
+
+    result = {"spec": spec.to_dict()}
+    if spec.kind == "domain":
+        b = np.asarray(cat("bounces")).reshape(len(spec.tilts), len(spec.attacks))
+        result.update(bounces=b.tolist(), first_contact_time=np.asarray(
+            cat("first_contact_time"), dtype=object).reshape(b.shape).tolist())
+    else:
+        umin = cat("umin")
+        finite = [(u, t) for u, t in zip(umin, spec.tilts) if u is not None]
+        best = min(finite) if finite else (None, None)
+        result.update(umin=umin, bounces_at_high=cat("bounces_at_high"), bounces_at_low=cat("bounces_at_low"),
+                      best_tilt=best[1], best_umin=best[0],
+                      resolution=(spec.speed_range[1] - spec.speed_range[0]) / 2**spec.iterations)
+    return result
+
+
+def write_results(result: dict, out: Path) -> None:
+    """``result.json`` (everything) and ``result.csv`` (one row per tilt, or per tilt and attack)."""
+    spec = result["spec"]
+    _write_atomic(out / "result.json", json.dumps(result, sort_keys=True, indent=1))
+    rows = []
+    if spec["kind"] == "domain":
+        rows.append(["tilt_deg", "attack_deg", "speed_m_s", "spin_rev_s", "bounces", "first_contact_time_s"])
+        for i, t in enumerate(spec["tilts"]):
+            for k, a in enumerate(spec["attacks"]):
+                tc = result["first_contact_time"][i][k]
+                rows.append([t, a, spec["speed"], spec["spin"], result["bounces"][i][k], "" if tc is None else tc])
+    else:
+        rows.append(["tilt_deg", "attack_deg", "spin_rev_s", "umin_m_s", "bounces_at_high"])
+        for i, t in enumerate(spec["tilts"]):
+            u = result["umin"][i]
+            rows.append([t, spec["attacks"][0], spec["spin"], "" if u is None else u, result["bounces_at_high"][i]])
+    from io import StringIO
+
+    buf = StringIO()
+    csv.writer(buf, lineterminator="\n").writerows(rows)
+    _write_atomic(out / "result.csv", buf.getvalue())
+
+
+def merge(folders, out_dir) -> dict:
+    """Join the chunk files of several shards' folders (same sweep) into ``out_dir``'s result."""
+    folders = [Path(f) for f in folders]
+    if not folders:
+        raise ParameterError("merge needs at least one folder")
+    specs = []
+    for f in folders:
+        if not (f / "spec.json").exists():
+            raise ParameterError(f"{str(f)!r} is not a sweep folder (no spec.json)")
+        specs.append(json.loads((f / "spec.json").read_text()))
+    if any(s != specs[0] for s in specs):
+        raise ParameterError("the folders hold different sweeps (their spec.json differ)")
+    d = specs[0]
+    spec = SweepSpec(**{k: (tuple(v) if isinstance(v, list) else v) for k, v in d.items()})
+    n = len(_chunks(spec))
+    found = {}
+    for f in folders:
+        for j in range(n):
+            p = f / f"chunk-{j:05d}.json"
+            if p.exists() and j not in found:
+                found[j] = json.loads(p.read_text())
+    missing = [j for j in range(n) if j not in found]
+    if missing:
+        raise ParameterError(f"chunks missing from every folder: {missing[:10]}{' ...' if len(missing) > 10 else ''}"
+                             " (run the shards that compute them)")
+    out = Path(out_dir)
+    _check_spec_file(out, spec)
+    for j, data in found.items():
+        p = out / f"chunk-{j:05d}.json"
+        if not p.exists():
+            _write_atomic(p, json.dumps(data, sort_keys=True))
+    result = assemble(spec, [found[j] for j in range(n)])
+    write_results(result, out)
+    return result
+
+
+def plot_sweep(result: dict, path) -> None:
+    """Picture of a sweep: U_min(tilt), or the bounce domain in the (tilt, attack) plane."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    spec = result["spec"]
+    fig, ax = plt.subplots(figsize=(6.4, 4.2))
+    if spec["kind"] == "umin":
+        u = np.array([np.nan if v is None else v for v in result["umin"]])
+        ax.plot(spec["tilts"], u, "o-", label=f"{spec['stone']}, {spec['attitude']} attitude")
+        none = np.isnan(u)
+        if none.any():
+            ax.plot(np.asarray(spec["tilts"])[none], np.full(none.sum(), spec["speed_range"][1]), "x", color="gray",
+                    label=f"no bounce up to {spec['speed_range'][1]:g} m/s")
+        if result["best_tilt"] is not None:
+            ax.axvline(result["best_tilt"], color="C3", lw=0.8, ls="--",
+                       label=f"min {result['best_umin']:.2f} m/s at {result['best_tilt']:g}°")
+        ax.set_xlabel("tilt α [deg]")
+        ax.set_ylabel("minimal speed for a bounce U_min [m/s]")
+        ax.set_title(f"U_min(α) at β = {spec['attacks'][0]:g}°, {spec['spin']:g} rev/s")
+        ax.legend(fontsize=8)
+    else:
+        b = np.asarray(result["bounces"], dtype=float)
+        mesh = ax.pcolormesh(spec["attacks"], spec["tilts"], b, shading="nearest", cmap="viridis")
+        ax.contour(spec["attacks"], spec["tilts"], (b > 0).astype(float), levels=[0.5], colors="w", linewidths=1)
+        fig.colorbar(mesh, ax=ax, label="bounces")
+        ax.set_xlabel("impact angle β [deg]")
+        ax.set_ylabel("tilt α [deg]")
+        ax.set_title(f"bounce domain at {spec['speed']:g} m/s, {spec['spin']:g} rev/s ({spec['stone']})")
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
