@@ -1,0 +1,99 @@
+"""Magic-angle sweeps: physics of U_min(tilt), resumption after a kill, shards, several devices."""
+
+import json
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from jaxskip import ParameterError
+from optimize import make_spec, merge, run_sweep
+
+ROOT = Path(__file__).resolve().parent.parent
+
+
+def small_domain():
+    return make_spec("domain", tilts=[10.0, 30.0], attacks=[10.0, 40.0], speed=3.5, chunk_size=1)
+
+
+def test_umin_has_a_magic_angle():
+    """Clanet disk, fixed attitude, beta = 20 deg, 65 rev/s: U_min is lowest near 20 deg, ~2.5 m/s,
+    and a disk tilted 60 deg does not bounce below 8 m/s (physics.md section 4)."""
+    spec = make_spec("umin", tilts=[5.0, 20.0, 40.0, 60.0], speed_range=(0.5, 8.0), iterations=6)
+    r = run_sweep(spec)
+    u = r["umin"]
+    assert u[3] is None and r["bounces_at_high"][3] == 0
+    assert r["best_tilt"] == 20.0 and abs(r["best_umin"] - 2.5) < 0.3 * 2.5
+    assert u[0] > u[1] and u[2] > u[1]
+
+
+def test_interrupted_sweep_resumes_to_the_same_file(tmp_path):
+    spec = small_domain()
+    whole = run_sweep(spec, tmp_path / "whole")
+    with pytest.raises(KeyboardInterrupt):
+        run_sweep(spec, tmp_path / "cut", _stop_after=2)
+    done = sorted(p.name for p in (tmp_path / "cut").glob("chunk-*.json"))
+    assert done == ["chunk-00000.json", "chunk-00001.json"]
+    assert not list((tmp_path / "cut").glob("*.tmp"))
+    stamp = (tmp_path / "cut" / "chunk-00000.json").stat().st_mtime_ns
+    resumed = run_sweep(spec, tmp_path / "cut")
+    assert (tmp_path / "cut" / "chunk-00000.json").stat().st_mtime_ns == stamp  # not recomputed
+    assert resumed == whole
+    for name in ("result.json", "result.csv"):
+        assert (tmp_path / "cut" / name).read_bytes() == (tmp_path / "whole" / name).read_bytes()
+    assert sum(map(sum, whole["bounces"])) > 0 and min(map(min, whole["bounces"])) == 0  # a real boundary
+
+
+def test_shards_and_merge_equal_one_machine(tmp_path):
+    spec = small_domain()
+    whole = run_sweep(spec, tmp_path / "whole")
+    assert run_sweep(spec, tmp_path / "s0", shard_index=0, num_shards=2) is None  # the other shard is missing
+    assert run_sweep(spec, tmp_path / "s1", shard_index=1, num_shards=2) is None
+    with pytest.raises(ParameterError, match="chunks missing"):
+        merge([tmp_path / "s0"], tmp_path / "merged0")
+    merged = merge([tmp_path / "s0", tmp_path / "s1"], tmp_path / "merged")
+    assert merged == whole
+    assert (tmp_path / "merged" / "result.csv").read_bytes() == (tmp_path / "whole" / "result.csv").read_bytes()
+
+
+def test_folder_of_another_sweep_is_refused(tmp_path):
+    run_sweep(make_spec("domain", tilts=[20.0], attacks=[20.0], speed=3.5), tmp_path)
+    with pytest.raises(ParameterError, match="different sweep"):
+        run_sweep(make_spec("domain", tilts=[25.0], attacks=[20.0], speed=3.5), tmp_path)
+
+
+def test_four_host_devices_equal_one(tmp_path):
+    """The lanes sharded over 4 forced CPU devices give the same sweep file as 1 device."""
+    spec = make_spec("domain", tilts=[10.0, 30.0, 50.0], attacks=[10.0, 40.0], speed=3.5)
+    run_sweep(spec, tmp_path / "one")
+    code = (
+        "import jax, sys; jax.config.update('jax_enable_x64', True)\n"
+        "assert len(jax.local_devices()) == 4, jax.local_devices()\n"
+        "from optimize import make_spec, run_sweep\n"
+        "spec = make_spec('domain', tilts=[10.0, 30.0, 50.0], attacks=[10.0, 40.0], speed=3.5)\n"
+        "run_sweep(spec, sys.argv[1])\n"
+    )
+    env = dict(os.environ, XLA_FLAGS="--xla_force_host_platform_device_count=4", JAX_PLATFORMS="cpu",
+               PYTHONPATH=os.pathsep.join(filter(None, [str(ROOT), os.environ.get("PYTHONPATH")])))
+    subprocess.run([sys.executable, "-c", code, str(tmp_path / "four")], check=True, env=env, cwd=ROOT, timeout=600)
+    one = json.loads((tmp_path / "one" / "result.json").read_text())
+    four = json.loads((tmp_path / "four" / "result.json").read_text())
+    assert one["bounces"] == four["bounces"]
+    np.testing.assert_allclose(np.array(four["first_contact_time"], dtype=float),
+                               np.array(one["first_contact_time"], dtype=float), rtol=0, atol=1e-12)
+
+
+@pytest.mark.parametrize("kwargs, message", [
+    ({"kind": "both", "tilts": [20.0]}, "kind"),
+    ({"kind": "umin", "tilts": [95.0]}, "tilt"),
+    ({"kind": "umin", "tilts": [20.0], "speed_range": (8.0, 1.0)}, "speed_range is inverted"),
+    ({"kind": "umin", "tilts": [20.0], "speed_range": (0.0, 8.0)}, "speed_range must start above 0"),
+    ({"kind": "umin", "tilts": [20.0], "attacks": [10.0, 20.0]}, "one attack"),
+    ({"kind": "domain", "tilts": [20.0], "spin": float("nan")}, "spin"),
+])
+def test_bad_sweep_input(kwargs, message):
+    with pytest.raises(ParameterError, match=message):
+        make_spec(**kwargs)
