@@ -65,6 +65,9 @@ def build_parser() -> argparse.ArgumentParser:
     t.add_argument("--max-steps", type=int, default=12000, metavar="N", help="step budget (default 12000)")
     t.add_argument("--json", action="store_true", help="print one JSON object on stdout")
     t.add_argument("--plot", metavar="PATH", default=None, help="write the side view (PNG/PDF/SVG)")
+    from .cli_search import add_parsers
+
+    add_parsers(sub, _float)
     return p
 
 
@@ -140,6 +143,12 @@ def main(argv=None) -> int:
     try:
         if args.command == "throw":
             return _throw(args)
+        from .cli_search import run_optimize, run_sweep_command
+
+        if args.command == "optimize":
+            return run_optimize(args)
+        if args.command == "sweep":
+            return run_sweep_command(args)
     except (ParameterError, MeshError, ValueError) as exc:
         print(f"jaxskip: error: {exc}", file=sys.stderr)
         return EXIT_USAGE
