@@ -93,7 +93,8 @@ class SimConfig:
     """Steps per segment. The scan runs in segments of this many steps; a segment that begins
     with the stone out of play is skipped whole, in the forward and the reverse pass, so a throw
     costs about its own steps rather than ``max_steps`` (a single throw, or a batch once every
-    throw in it is out of play; under ``vmap`` a segment runs while any throw is in play)."""
+    throw in it is out of play; under ``vmap`` a segment runs while any throw is in play).
+    A segment longer than ``max_steps`` is capped at ``max_steps``."""
     checkpoint: int = 1
     """Reverse-mode memory/time trade-off (no effect on a forward run). 1 (default): nested
     rematerialisation — each segment is checkpointed and, inside it, each step: only one carry
@@ -111,7 +112,7 @@ class SimConfig:
         check_int("max_contacts", self.max_contacts, minimum=1, maximum=100_000)
         check_positive("bounce_clearance", self.bounce_clearance, unit="m")
         check_positive("stop_speed", self.stop_speed, unit="m/s")
-        check_int("segment", self.segment, minimum=1, maximum=self.max_steps)
+        check_int("segment", self.segment, minimum=1, maximum=10_000_000)
         check_int("checkpoint", self.checkpoint, minimum=0, maximum=1)
         if not isinstance(self.force, ForceModel):
             raise TypeError("force must be a jaxskip.forces.ForceModel")
@@ -457,7 +458,7 @@ def _scan(config: SimConfig, step, carry, stone, water):
         run = lambda c, _: jax.lax.cond(c[1].alive, live, dead, c)
         return jax.checkpoint(run) if config.checkpoint else run
 
-    k = config.segment
+    k = min(config.segment, config.max_steps)
     full, rest = divmod(config.max_steps, k)
     carry, recs = jax.lax.scan(segment(k), carry, None, length=full)
     if config.record:

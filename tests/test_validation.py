@@ -25,7 +25,6 @@ def test_throw_from_degrees(kwargs, name):
     (dict(max_steps=0), "max_steps"), (dict(max_steps=2.5), "max_steps"),
     (dict(integrator="leapfrog"), "integrator"), (dict(attitude="wobbly"), "attitude"),
     (dict(max_steps=1000, checkpoint=2), "checkpoint"), (dict(segment=0), "segment"),
-    (dict(max_steps=100, segment=101), "segment"),
 ])
 def test_sim_config(kwargs, name):
     with pytest.raises(ValueError, match=name):

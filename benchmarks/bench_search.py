@@ -1,0 +1,132 @@
+"""Throw search benchmark (issue 4): exhaustive grid vs gradient search vs baselines, same run, same machine.
+
+Run from the repository root::
+
+    PYTHONPATH=. python benchmarks/bench_search.py            # full: 10^4-throw grid, 8-start search, 10^4 gradients
+    PYTHONPATH=. python benchmarks/bench_search.py --quick    # smaller sizes
+
+Prints: the best true bounce count G of an exhaustive grid over the human box (speed 3-12 m/s,
+tilt 5-45 deg, attack 0-30 deg, spin 0-20 rev/s; default stone, free attitude), the gradient
+search's best true count from 8 random starts and its cost (wall time, and gradient evaluations
+converted to forward-throw equivalents at their measured cost), a randomised-smoothing and a
+random-search baseline at a similar budget, and the share of finite surrogate gradients over
+random throws. Timings include compilation where stated; float64 throughout.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import time
+
+import jax
+
+jax.config.update("jax_enable_x64", True)
+
+import numpy as np  # noqa: E402
+
+from jaxskip import SimConfig, water_params  # noqa: E402
+from jaxskip.api import resolve_stone  # noqa: E402
+from optimize import gradient_search, grid_search, make_box, make_objective, perturbation_search, random_search  # noqa: E402
+
+
+def _baselines(box, config, starts, iterations, equiv, out):
+    """Perturbation (randomised smoothing) and random search at the gradient search's budget."""
+    budget_pairs = max(1, int(equiv / (starts * iterations) / 2))
+    print(f"perturbation baseline: {starts} starts x {iterations} iterations x {budget_pairs} pairs ...")
+    ps = perturbation_search(box, config=config, starts=starts, iterations=iterations, samples=budget_pairs)
+    out["perturbation"] = {"bounces": ps.best_bounces, "wall_s": ps.wall_time, "forward_throws": ps.forward_throws}
+    print(f"  best {ps.best_bounces} bounces; {ps.forward_throws} throws, {ps.wall_time:.1f} s wall")
+    rs = random_search(box, throws=int(equiv), config=config)
+    out["random"] = {"bounces": rs.best_bounces, "wall_s": rs.wall_time, "forward_throws": rs.forward_throws}
+    print(f"random baseline, same budget ({int(equiv)} throws): best {rs.best_bounces} bounces, "
+          f"{rs.wall_time:.1f} s wall")
+    return ps, rs
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--quick", action="store_true", help="6^4 grid, 2 starts, 500 gradients")
+    ap.add_argument("--per-axis", type=int, help="grid points per parameter (default 10: 10^4 throws)")
+    ap.add_argument("--iterations", type=int, default=15, help="gradient-search iterations (default 15)")
+    ap.add_argument("--finite-throws", type=int, help="random throws for the gradient finiteness check")
+    ap.add_argument("--finite-steps", type=int, default=1200, help="horizon [steps] of the finiteness check")
+    ap.add_argument("--no-baselines", action="store_true",
+                    help="skip the perturbation and random baselines (the perturbation one is slow: ~1 h in full)")
+    ap.add_argument("--json", metavar="PATH")
+    args = ap.parse_args(argv)
+    per_axis = args.per_axis or (6 if args.quick else 10)
+    starts = 2 if args.quick else 8
+    n_finite = args.finite_throws or (500 if args.quick else 10_000)
+    box = make_box()
+    config = SimConfig()
+    out = {"per_axis": per_axis, "starts": starts, "iterations": args.iterations}
+
+    print(f"exhaustive grid: {per_axis}^4 = {per_axis ** 4} throws ...", flush=True)
+    grid = grid_search(box, per_axis=per_axis, config=config, progress=True)
+    G = grid.best_bounces
+    out["grid"] = {"G": G, "best": grid.best, "wall_s": grid.wall_time, "throws": grid.forward_throws}
+    per_throw = grid.wall_time / grid.forward_throws
+    print(f"  G = {G} bounces at {grid.best}; {grid.wall_time:.1f} s wall ({per_throw * 1e3:.1f} ms per throw)")
+
+    # Measured cost of one surrogate gradient (full rollout), to count gradient evaluations as throws.
+    rigid, _ = resolve_stone("paper")
+    f = make_objective("bounces", config, rigid, water_params())
+    u = np.asarray(box.from_user({"speed": [8.0], "tilt": [20.0], "attack": [10.0], "spin": [15.0]}))
+    gfn = jax.jit(lambda u: jax.lax.map(jax.grad(lambda ui: f(box.to_throw(ui))), u))
+    u4 = np.repeat(u, 4, axis=0)
+    jax.block_until_ready(gfn(u4))  # compile for this very shape, so the timing below is run time only
+    t0 = time.perf_counter()
+    jax.block_until_ready(gfn(u4))
+    grad_cost = (time.perf_counter() - t0) / 4
+    print(f"  one surrogate gradient: {grad_cost * 1e3:.0f} ms = {grad_cost / per_throw:.1f} grid throws")
+
+    print(f"gradient search: {starts} starts x {args.iterations} iterations ...", flush=True)
+    gs = gradient_search(box, config=config, starts=starts, iterations=args.iterations, progress=True)
+    equiv = gs.forward_throws + gs.gradient_evals * grad_cost / per_throw
+    out["gradient"] = {"best": gs.best, "bounces": gs.best_bounces, "wall_s": gs.wall_time,
+                       "forward_throws": gs.forward_throws, "gradient_evals": gs.gradient_evals,
+                       "throw_equivalents": equiv, "history_best": [h["best"] for h in gs.history]}
+    print(f"  best {gs.best_bounces} bounces ({gs.best_bounces / max(G, 1):.0%} of G) at {gs.best}")
+    print(f"  cost {gs.wall_time:.1f} s wall ({gs.wall_time / grid.wall_time:.1%} of the grid's); "
+          f"{gs.forward_throws} throws + {gs.gradient_evals} gradients = {equiv:.0f} throw-equivalents "
+          f"({equiv / grid.forward_throws:.1%} of the grid's)")
+
+    ps = rs = None
+    if not args.no_baselines:
+        ps, rs = _baselines(box, config, starts, args.iterations, equiv, out)
+
+    print(f"surrogate gradient finiteness: {n_finite} random throws, horizon {args.finite_steps} steps ...")
+    fcfg = SimConfig(max_steps=args.finite_steps, duration=100.0)
+    ff = make_objective("bounces", fcfg, rigid, water_params())
+    gf = jax.jit(lambda u: jax.lax.map(jax.grad(lambda ui: ff(box.to_throw(ui))), u))
+    rng = np.random.default_rng(0)
+    t0 = time.perf_counter()
+    finite = nonzero = 0
+    for i in range(0, n_finite, 500):
+        m = min(500, n_finite - i)
+        uu = box.from_user({n: rng.uniform(lo, hi, m) for n, lo, hi in box.searched})
+        g = np.asarray(gf(uu))
+        finite += int(np.all(np.isfinite(g), axis=1).sum())
+        nonzero += int(np.any(g != 0, axis=1).sum())
+    out["finite"] = {"throws": n_finite, "finite": finite, "nonzero": nonzero, "steps": args.finite_steps,
+                     "wall_s": time.perf_counter() - t0}
+    print(f"  finite {finite}/{n_finite}, non-zero {nonzero}/{n_finite}; {time.perf_counter() - t0:.0f} s")
+
+    print("\nSUMMARY")
+    print(f"  grid G = {G} ({grid.forward_throws} throws, {grid.wall_time:.1f} s)")
+    hit = gs.best_bounces >= 0.95 * G
+    cheap = equiv <= 0.10 * grid.forward_throws
+    print(f"  gradient search: {gs.best_bounces} ({gs.best_bounces / max(G, 1):.0%} of G; target >= 95%: "
+          f"{'met' if hit else 'MISSED'}) at {equiv / grid.forward_throws:.1%} of the grid's cost "
+          f"(target <= 10%: {'met' if cheap else 'MISSED'}); wall {gs.wall_time:.1f} s")
+    if ps is not None:
+        print(f"  perturbation: {ps.best_bounces}; random (same budget): {rs.best_bounces}")
+    print(f"  surrogate gradients finite: {finite}/{n_finite}")
+    if args.json:
+        with open(args.json, "w") as fh:
+            json.dump(out, fh, indent=1, default=float)
+
+
+if __name__ == "__main__":
+    main()
