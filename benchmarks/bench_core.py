@@ -425,7 +425,7 @@ def section_grid(dtype, p):
 
 def section_pool(dtype, p):
     """The same tilt x attack grid to completion with jaxskip.batch.simulate_batch (lanes refilled)."""
-    jax = _setup_jax(dtype)
+    _setup_jax(dtype)  # dtype and platform settings before jaxskip is used
     import numpy as np
 
     from jaxskip import SimConfig

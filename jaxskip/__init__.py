@@ -27,6 +27,7 @@ from .mesh import MassProperties, MeshError, TriMesh, mass_properties, read_obj,
 from .simulate import OUTCOMES, Record, SimConfig, StoneState, Tracker, initial_state, make_step, rollout, rollout_jit
 from .stones import BUILTIN_STONES, clanet_disk, disk, ellipsoid_pebble, irregular_pebble, load_stone, paper_stone
 from .throw import Throw
+from .water import WaterGrid, WaterState, height_at, make_water_step, run_water, stable_dt, still_water
 
 __all__ = [
     "BUILTIN_STONES", "BatchResult", "Contact", "ForceModel", "MassProperties", "MeshError", "OUTCOMES", "ParameterError",
@@ -34,5 +35,6 @@ __all__ = [
     "clanet_disk", "disk", "ellipsoid_pebble", "initial_state", "irregular_pebble", "load_stone", "make_step",
     "mass_properties", "paper_stone", "read_obj", "resolve_stone", "rigid_stone", "rollout", "rollout_jit",
     "simulate", "simulate_batch", "validate_mesh", "water_params", "write_obj",
+    "WaterGrid", "WaterState", "height_at", "make_water_step", "run_water", "stable_dt", "still_water",
 ]
 __version__ = "0.1.0"

@@ -1,0 +1,214 @@
+"""The O'Brien–Hodgins height field (jaxskip.water): conservation, waves, clamps, stability, gradients."""
+
+import dataclasses
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+import pytest
+
+from jaxskip import ParameterError
+from jaxskip.water import (WaterGrid, height_at, make_water_step, run_water, stable_dt, still_water,
+                           total_volume, water_substeps)
+
+
+def _scan_min(grid, state, steps):
+    """Run ``steps`` steps; return the final state and the lowest column height seen."""
+    step = make_water_step(grid)
+    p = jnp.zeros(grid.shape)
+
+    @jax.jit
+    def go(s):
+        def body(c, _):
+            c = step(c, p)
+            return c, jnp.min(c.height)
+        return jax.lax.scan(body, s, None, length=steps)
+
+    final, lows = go(state)
+    return final, float(jnp.min(lows))
+
+
+def _drying(clamp="reference", shape=(32, 32), **kw):
+    """Shallow water (5 mm) with a 15 mm mound: the troughs dry out, so the clamp must act."""
+    grid = WaterGrid(shape=shape, spacing=0.01, depth=0.005, clamp=clamp, **kw)
+    X, Y = grid.column_centres()
+    c = 0.01 * (shape[0] - 1) / 2
+    h0 = grid.depth + 0.015 * jnp.exp(-((X - c) ** 2 + (Y - c) ** 2) / (2 * 0.03 ** 2))
+    return grid, still_water(grid, h0)
+
+
+def test_still_water_stays_still():
+    """Flat water, with or without a uniform external pressure, does not move (exactly)."""
+    for clamp in ("reference", "zero", "smooth"):
+        grid = WaterGrid(shape=(20, 24), spacing=0.02, depth=0.1, clamp=clamp)
+        s = run_water(grid, still_water(grid), 500, pressure=jnp.full(grid.shape, 250.0))
+        assert float(jnp.max(jnp.abs(s.height - grid.depth))) == 0.0
+        assert float(jnp.max(jnp.abs(s.qx))) == 0.0
+
+
+def test_volume_conserved_with_reference_clamp():
+    """10^4 steps, closed boundaries, columns drying out: total volume to 1e-10 relative.
+    The seed's zeroing clamp (eq. 4) on the same scene adds volume — the clamp is really active."""
+    grid, s0 = _drying("reference")
+    v0 = float(total_volume(grid, s0))
+    s, low = _scan_min(grid, s0, 10_000)
+    assert low >= 0.0
+    assert low < 1e-4 * grid.depth            # columns did run dry: the clamp was exercised
+    assert abs(float(total_volume(grid, s)) - v0) / v0 < 1e-10
+    gz, z0 = _drying("zero")
+    sz = run_water(gz, z0, 10_000)
+    assert (float(total_volume(gz, sz)) - v0) / v0 > 1e-6
+
+
+@pytest.mark.parametrize("clamp,iterations", [("reference", 4), ("reference", 0), ("smooth", 4)])
+def test_no_column_goes_negative(clamp, iterations):
+    """Every pass of the clamp is safe, even with no relaxation passes at all; volume conserved."""
+    grid, s0 = _drying(clamp, clamp_iterations=iterations)
+    v0 = float(total_volume(grid, s0))
+    s, low = _scan_min(grid, s0, 3000)
+    assert low >= 0.0
+    assert abs(float(total_volume(grid, s)) - v0) / v0 < 1e-10
+
+
+def test_unclamped_scheme_would_go_negative():
+    """Without scaling, the same scene drives columns below zero: the clamp tests are not vacuous."""
+    grid, s0 = _drying("reference")
+    step = make_water_step(dataclasses.replace(grid, clamp="zero"))
+    lows = []
+    s = s0
+    for _ in range(200):
+        s = step(s, jnp.zeros(grid.shape))
+        lows.append(float(jnp.min(s.height)))
+    assert min(lows) == 0.0    # the zeroing clamp had to clip (a negative column was produced)
+
+
+def _peak(profile, spacing):
+    """Sub-cell position of the maximum of a sampled 1-D profile (parabola through 3 points)."""
+    i = int(np.argmax(profile))
+    a, b, c = profile[i - 1], profile[i], profile[i + 1]
+    return (i + 0.5 * (a - c) / (a - 2 * b + c)) * spacing
+
+
+def test_small_bump_spreads_at_shallow_water_speed():
+    """A small bump spreads at sqrt(gH) within 5 %, along the axes and along the diagonals."""
+    grid = WaterGrid(shape=(161, 161), spacing=0.01, depth=0.1, cfl=0.3)
+    X, Y = grid.column_centres()
+    c0 = 0.8
+    h0 = grid.depth + 1e-4 * jnp.exp(-((X - c0) ** 2 + (Y - c0) ** 2) / (2 * 0.03 ** 2))
+    n1, n2 = 80, 200
+    s1 = run_water(grid, still_water(grid, h0), n1)
+    s2 = run_water(grid, s1, n2 - n1)
+    r = np.linspace(0.0, 0.7, 701)
+    ds = r[1] - r[0]
+    elapsed = (n2 - n1) * grid.time_step
+    for direction in [(1, 0), (0, 1), (-1, 0), (1, 1), (-1, 1), (1, -1)]:
+        u = np.asarray(direction, float) / np.hypot(*direction)
+        prof = [np.asarray(height_at(grid, s.height, c0 + r * u[0], c0 + r * u[1])) for s in (s1, s2)]
+        speed = (_peak(prof[1], ds) - _peak(prof[0], ds)) / elapsed
+        assert speed == pytest.approx(grid.wave_speed, rel=0.05), direction
+
+
+def test_smooth_clamp_converges_to_reference():
+    """On a drying scene, the smooth clamp's heights approach the reference's as sharpness grows."""
+    grid, s0 = _drying("reference")
+    ref = run_water(grid, s0, 400).height
+    errs = []
+    for k in (3.0, 10.0, 30.0, 100.0, 1000.0):
+        g = dataclasses.replace(grid, clamp="smooth", sharpness=k)
+        errs.append(float(jnp.max(jnp.abs(run_water(g, s0, 400).height - ref))))
+    assert all(b < a for a, b in zip(errs, errs[1:])), errs
+    assert errs[-1] < 1e-3 * grid.depth, errs
+
+
+def test_stable_at_bound_unstable_beyond():
+    """The derived bound sqrt(3)/2 l/sqrt(gH) is sharp: at 0.99 of it random ripples stay bounded,
+    at 1.05 of it the checkerboard mode explodes. The grid refuses a dt beyond the bound."""
+    bound = stable_dt(0.01, 0.1)
+    noise = 1e-6 * np.random.default_rng(0).standard_normal((24, 24))
+    amp = {}
+    for factor in (0.99, 1.05):
+        grid = WaterGrid(shape=(24, 24), spacing=0.01, depth=0.1)
+        object.__setattr__(grid, "dt", factor * bound)   # bypass the guard to show what it guards
+        s = run_water(grid, still_water(grid, grid.depth + noise), 1000)
+        amp[factor] = float(jnp.max(jnp.abs(s.height - grid.depth)))
+    assert amp[0.99] < 10 * np.abs(noise).max()
+    assert not np.isfinite(amp[1.05]) or amp[1.05] > 1e3 * np.abs(noise).max()
+    with pytest.raises(ParameterError, match="dt"):
+        WaterGrid(shape=(24, 24), spacing=0.01, depth=0.1, dt=1.01 * bound)
+    grid = WaterGrid(shape=(24, 24), spacing=0.01, depth=0.1)
+    n = water_substeps(grid, 0.02)
+    assert 0.02 / n <= bound and 0.02 / (n - 1) > grid.time_step
+
+
+def test_gradients_through_1000_steps_match_finite_differences():
+    """d(height at a probe after 1000 smooth-clamped steps)/d(mound height), with columns drying."""
+    def probe(a):
+        grid = WaterGrid(shape=(24, 24), spacing=0.01, depth=0.005, clamp="smooth", sharpness=20.0)
+        X, Y = grid.column_centres()
+        h0 = grid.depth + a * jnp.exp(-((X - 0.1) ** 2 + (Y - 0.12) ** 2) / (2 * 0.03 ** 2))
+        step = make_water_step(grid)
+        p = jnp.zeros(grid.shape)
+        s = jax.lax.scan(jax.checkpoint(lambda c, _: (step(c, p), None)), still_water(grid, h0), None,
+                         length=1000)[0]
+        return s.height[5, 7] + s.height[18, 3]
+
+    a = 0.012
+    g = float(jax.jit(jax.grad(probe))(a))
+    f = jax.jit(probe)
+    # Drying makes the probe strongly curved in a after 1000 steps: central differences converge
+    # to the AD value as h shrinks (1e-5: 8e-3 off, 1e-6: 8e-5, 1e-7: 8e-7, 1e-8: 1e-8).
+    h = 1e-8
+    fd = (float(f(a + h)) - float(f(a - h))) / (2 * h)
+    assert np.isfinite(g)
+    assert g == pytest.approx(fd, rel=1e-6)
+
+
+def test_batch_equals_one_at_a_time():
+    grid = WaterGrid(shape=(16, 20), spacing=0.01, depth=0.02, clamp="smooth")
+    X, Y = grid.column_centres()
+    amps = jnp.array([0.0, 0.005, 0.02])
+    h0 = grid.depth + amps[:, None, None] * jnp.exp(-((X - 0.07) ** 2 + (Y - 0.1) ** 2) / 0.001)[None]
+    step = make_water_step(grid)
+    p = jnp.zeros(grid.shape)
+    run = lambda h: jax.lax.scan(lambda c, _: (step(c, p), None), still_water(grid, h), None, length=300)[0]
+    batch = jax.jit(jax.vmap(run))(h0)
+    for i in range(3):
+        one = jax.jit(run)(h0[i])
+        np.testing.assert_allclose(np.asarray(batch.height[i]), np.asarray(one.height), rtol=0, atol=1e-15)
+
+
+def test_sponge_absorbs_waves_closed_box_keeps_them():
+    """After the ring has reached the edges, a sponge border has taken most of the wave energy out;
+    the closed box still holds it (reflected)."""
+    def energy_left(boundary):
+        grid = WaterGrid(shape=(64, 64), spacing=0.01, depth=0.05, boundary=boundary, sponge_width=10)
+        X, Y = grid.column_centres()
+        h0 = grid.depth + 1e-4 * jnp.exp(-((X - 0.315) ** 2 + (Y - 0.315) ** 2) / (2 * 0.02 ** 2))
+        s0 = still_water(grid, h0)
+        s = run_water(grid, s0, 600)            # ~4 crossings of the box
+        e = lambda st: float(jnp.sum((st.height - grid.depth) ** 2))
+        return e(s) / e(s0)
+    closed, sponge = energy_left("closed"), energy_left("sponge")
+    assert sponge < 0.05 * closed
+
+
+def test_height_at_is_bilinear():
+    grid = WaterGrid(shape=(10, 12), spacing=0.05, depth=0.1, origin=(-0.2, 0.3))
+    X, Y = grid.column_centres()
+    h = grid.depth + 0.01 * X - 0.02 * Y + 0.003
+    x = jnp.array([-0.2, 0.013, 0.21, 0.24])
+    y = jnp.array([0.3, 0.41, 0.77, 0.84])
+    np.testing.assert_allclose(np.asarray(height_at(grid, h, x, y)), np.asarray(0.01 * x - 0.02 * y + 0.003),
+                               atol=1e-14)
+
+
+@pytest.mark.parametrize("kwargs,name", [
+    (dict(spacing=0.0), "spacing"), (dict(spacing=-1.0), "spacing"), (dict(depth=float("nan")), "depth"),
+    (dict(depth=0.0), "depth"), (dict(shape=(2, 10)), "shape"), (dict(shape=(10,)), "shape"),
+    (dict(shape=(5000, 5000)), "shape"), (dict(shape=(10.0, 10)), "shape"), (dict(clamp="clip"), "clamp"),
+    (dict(sharpness=0.5), "sharpness"), (dict(cfl=1.5), "cfl"), (dict(boundary="open"), "boundary"),
+    (dict(dt=-1e-3), "dt"), (dict(damping=-1.0), "damping"),
+])
+def test_bad_grid_input(kwargs, name):
+    with pytest.raises(ParameterError, match=name):
+        WaterGrid(**kwargs)
