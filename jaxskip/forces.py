@@ -195,6 +195,27 @@ def world_triangles(stone, position, R):
     return tri, normals
 
 
+def triangle_forces(model: ForceModel, params: WaterParams, stone, position, R, velocity, omega, surface):
+    r"""Per-triangle water forces: the kernel of :func:`water_force`, before summing.
+
+    Arguments as for :func:`water_force`. Returns ``forces`` (F, 3) [N] on the
+    stone, immersed ``centroids`` (F, 3) [m] (world frame; where each force acts)
+    and immersed ``areas`` (F,) [m^2]. The water feels ``-forces`` at the
+    centroids (the height-field coupling, :mod:`jaxskip.coupled`).
+    """
+    tri, normals = world_triangles(stone, position, R)
+    h = surface(tri[..., 0], tri[..., 1])
+    frac, centroid = clipping.immersed_areas(tri, h, model.sharpness)
+    area = frac * stone.areas
+    r = centroid - position[None, :]
+    if model.velocity == "local":
+        vel = velocity[None, :] + jnp.cross(omega[None, :], r)
+    else:
+        vel = jnp.broadcast_to(velocity[None, :], r.shape)
+    forces = jax.vmap(lambda n, s, v: triangle_force(model, params, n, s, v))(normals, area, vel)
+    return forces, centroid, area
+
+
 def water_force(model: ForceModel, params: WaterParams, stone, position, R, velocity, omega, surface):
     r"""Total water force and torque on the stone.
 
@@ -211,15 +232,7 @@ def water_force(model: ForceModel, params: WaterParams, stone, position, R, velo
     -------
     force : (3,) [N]; torque : (3,) about the centre of mass [N m]; wetted : () immersed area [m^2].
     """
-    tri, normals = world_triangles(stone, position, R)
-    h = surface(tri[..., 0], tri[..., 1])
-    frac, centroid = clipping.immersed_areas(tri, h, model.sharpness)
-    area = frac * stone.areas
+    forces, centroid, area = triangle_forces(model, params, stone, position, R, velocity, omega, surface)
     r = centroid - position[None, :]
-    if model.velocity == "local":
-        vel = velocity[None, :] + jnp.cross(omega[None, :], r)
-    else:
-        vel = jnp.broadcast_to(velocity[None, :], r.shape)
-    forces = jax.vmap(lambda n, s, v: triangle_force(model, params, n, s, v))(normals, area, vel)
     torque = jnp.sum(jnp.cross(r, forces), axis=0)
     return jnp.sum(forces, axis=0), torque, jnp.sum(area)
