@@ -263,7 +263,7 @@ def still_water(grid: WaterGrid, height=None, dtype=None) -> WaterState:
 
 
 def _gather_out(qx, qy, qd, qa):
-    """Per column: the flow out through each of its 8 pipes, as a dict of ``(nx, ny)`` arrays.
+    """Per column: the flow out through each of its 8 pipes, as a tuple of 8 ``(nx, ny)`` arrays.
 
     A pipe's flow counts positive out of its first column and negative out of its second.
     """
@@ -316,6 +316,19 @@ def _ratio_factor(avail, out, smooth: bool, k: float):
     return jnp.where(has_out, s, 1.0)
 
 
+def _inflow(pos, neg, s):
+    """Per column: inflow [m³/s] when every column's outflows are scaled by its factor ``s``.
+
+    ``pos``/``neg``: per pipe direction, the flow towards the second / the first column (≥ 0).
+    """
+    (px, py, pd, pa), (mx, my, md, ma) = pos, neg
+    pad = jnp.pad
+    return (pad(px * s[:-1, :], ((1, 0), (0, 0))) + pad(mx * s[1:, :], ((0, 1), (0, 0)))
+            + pad(py * s[:, :-1], ((0, 0), (1, 0))) + pad(my * s[:, 1:], ((0, 0), (0, 1)))
+            + pad(pd * s[:-1, :-1], ((1, 0), (1, 0))) + pad(md * s[1:, 1:], ((0, 1), (0, 1)))
+            + pad(pa * s[:-1, 1:], ((1, 0), (0, 1))) + pad(ma * s[1:, :-1], ((0, 1), (1, 0))))
+
+
 def _clamp(grid: WaterGrid, volume, flows, dt):
     """Scale outflows so no column goes below zero (reference and smooth clamps).
 
@@ -327,12 +340,13 @@ def _clamp(grid: WaterGrid, volume, flows, dt):
     """
     smooth = grid.clamp == "smooth"
     k = float(grid.sharpness)
-    raw_out, _ = _split(*flows)
+    pos = tuple(jnp.maximum(q, 0.0) for q in flows)
+    neg = tuple(jnp.maximum(-q, 0.0) for q in flows)
+    raw_out = _inflow(neg, pos, jnp.ones_like(volume))   # outflow = inflow with the roles swapped
     need = dt * raw_out * (1.0 + _MARGIN)     # aim a hair above zero: round-off cannot dip below
     s = _ratio_factor(volume, need, smooth, k)
     for _ in range(grid.clamp_iterations):
-        _, inn = _split(*_scale_pipes(*flows, s))
-        s = _ratio_factor(volume + dt * inn, need, smooth, k)
+        s = _ratio_factor(volume + dt * _inflow(pos, neg, s), need, smooth, k)
     return _scale_pipes(*flows, s)
 
 

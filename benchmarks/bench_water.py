@@ -1,0 +1,166 @@
+"""Height-field benchmark (issue 3): water steps/s, effective bandwidth, coupled throws vs real time,
+and what the two-way coupling changes against flat water over a batch of throws.
+
+    PYTHONPATH=. python benchmarks/bench_water.py            # all sections
+    PYTHONPATH=. python benchmarks/bench_water.py --quick    # smaller batch, fewer repeats
+    PYTHONPATH=. python benchmarks/bench_water.py --sections steps,throw --json out.json
+
+Sections:
+  steps     water steps/s on 64^2, 128^2 and 256^2 grids for each clamp (compile time reported apart),
+            and the effective memory bandwidth (bytes of state read and written per step / time)
+            against a large-array copy measured in the same run;
+  throw     the default throw, two-way coupled, with a 64^2 and a 128^2 window: wall time against
+            simulated time (goal: >= 20x faster than real time with 128^2);
+  coupling  a batch of random throws in the human box, flat water vs coupled: how often the bounce
+            count agrees, its mean change, and the first contact's duration.
+"""
+
+from __future__ import annotations
+
+import argparse
+import dataclasses
+import json
+import os
+import sys
+import time
+
+sys.path.insert(0, os.path.join(os.path.dirname(__file__), ".."))
+
+import jax  # noqa: E402
+import jax.numpy as jnp  # noqa: E402
+import numpy as np  # noqa: E402
+
+jax.config.update("jax_enable_x64", True)
+
+from jaxskip import SimConfig, Throw, paper_stone, rigid_stone, rollout, water_params  # noqa: E402
+from jaxskip.coupled import default_window, rollout_coupled  # noqa: E402
+from jaxskip.water import WaterGrid, make_water_step, still_water  # noqa: E402
+
+
+def _best(fn, repeats):
+    times = []
+    for _ in range(repeats):
+        t0 = time.perf_counter()
+        jax.block_until_ready(fn())
+        times.append(time.perf_counter() - t0)
+    return min(times)
+
+
+def section_steps(quick):
+    out = {}
+    n_copy = 64 * 2 ** 20 // 8                       # a 64 MiB float64 array
+    big = jnp.ones(n_copy)
+    copy = jax.jit(lambda a: a * 1.0 + 0.0)
+    jax.block_until_ready(copy(big))
+    t = _best(lambda: copy(big), 3 if quick else 10)
+    copy_bw = 2 * big.nbytes / t
+    out["copy_GBps"] = copy_bw / 1e9
+    print(f"large-array copy (64 MiB read + 64 MiB written): {copy_bw / 1e9:.1f} GB/s")
+    for n in (64, 128, 256):
+        for clamp in ("zero", "reference", "smooth"):
+            grid = WaterGrid(shape=(n, n), spacing=0.01, depth=0.02, clamp=clamp, boundary="sponge")
+            X, Y = grid.column_centres()
+            c = 0.01 * (n - 1) / 2
+            # A ripple that never dries a column: the clamp is tested for and skipped, as in most steps.
+            s0 = still_water(grid, grid.depth + 1e-3 * jnp.exp(-((X - c) ** 2 + (Y - c) ** 2) / 1e-3))
+            step = make_water_step(grid)
+            p = jnp.zeros(grid.shape)
+            steps = 200 if n == 256 else 1000
+            if quick:
+                steps //= 4
+            run = jax.jit(lambda s: jax.lax.scan(lambda c, _: (step(c, p), None), s, None, length=steps)[0])
+            t0 = time.perf_counter()
+            jax.block_until_ready(run(s0))
+            compile_s = time.perf_counter() - t0
+            t = _best(lambda: run(s0), 2 if quick else 5) / steps
+            # State read and written each step: heights and four pipe arrays (~5 n^2 values).
+            nbytes = 2 * 5 * n * n * 8
+            bw = nbytes / t
+            out[f"{n}_{clamp}"] = {"steps_per_s": 1 / t, "us_per_step": t * 1e6, "compile_s": compile_s,
+                                   "GBps": bw / 1e9, "share_of_copy": bw / copy_bw}
+            print(f"  {n:>3}^2 {clamp:<9}: {1 / t:8.0f} steps/s ({t * 1e6:7.0f} us/step, compile {compile_s:.1f} s); "
+                  f"{bw / 1e9:.2f} GB/s = {bw / copy_bw:.0%} of the copy")
+    return out
+
+
+def section_throw(quick):
+    out = {}
+    stone = rigid_stone(paper_stone(), density=2650.0)
+    water = water_params()
+    config = SimConfig(record=False)
+    throw = Throw.from_degrees()
+    flat = jax.jit(lambda t: rollout(config, t, stone, water))
+    jax.block_until_ready(flat(throw))
+    t_flat = _best(lambda: flat(throw), 5)
+    s, tr, _ = flat(throw)
+    print(f"flat water: {int(tr.bounces)} bounces, {float(s.time):.2f} s simulated, {t_flat * 1e3:.1f} ms wall")
+    out["flat"] = {"bounces": int(tr.bounces), "sim_s": float(s.time), "wall_s": t_flat}
+    for n in (64, 128):
+        grid = dataclasses.replace(default_window(), shape=(n, n))
+        f = jax.jit(lambda t, g=grid: rollout_coupled(config, g, t, stone, water))
+        t0 = time.perf_counter()
+        jax.block_until_ready(f(throw))
+        compile_s = time.perf_counter() - t0
+        wall = _best(lambda: f(throw), 2 if quick else 3)
+        s, tr, _, fld = f(throw)
+        sim = float(s.time)
+        out[str(n)] = {"bounces": int(tr.bounces), "sim_s": sim, "wall_s": wall, "compile_s": compile_s,
+                       "faster_than_real_time": sim / wall}
+        print(f"coupled, {n}^2 window: {int(tr.bounces)} bounces, {sim:.2f} s simulated in {wall:.2f} s wall "
+              f"(compile {compile_s:.1f} s): {sim / wall:.1f}x real time (goal >= 20x at 128^2)")
+    return out
+
+
+def section_coupling(quick):
+    stone = rigid_stone(paper_stone(), density=2650.0)
+    water = water_params()
+    config = SimConfig(record=False)
+    n = 16 if quick else 64
+    rng = np.random.default_rng(0)
+    throws = Throw.from_degrees(speed=rng.uniform(3, 12, n), tilt=rng.uniform(5, 45, n),
+                                attack=rng.uniform(0, 30, n), spin=rng.uniform(0, 20, n))
+    flat = jax.jit(jax.vmap(lambda t: rollout(config, t, stone, water)))
+    _, tf, _ = flat(throws)
+    out = {"throws": n}
+    for label, grid in (("coupled 64^2 smooth", default_window()),
+                        ("coupled 64^2 reference", dataclasses.replace(default_window(), clamp="reference"))):
+        t0 = time.perf_counter()
+        coupled = jax.jit(jax.vmap(lambda t, g=grid: rollout_coupled(config, g, t, stone, water)))
+        _, tc, _, _ = coupled(throws)
+        wall = time.perf_counter() - t0
+        bf, bc = np.asarray(tf.bounces), np.asarray(tc.bounces)
+        d1f = np.asarray(tf.t_end[:, 0] - tf.t_start[:, 0])
+        d1c = np.asarray(tc.t_end[:, 0] - tc.t_start[:, 0])
+        ok = np.isfinite(d1f) & np.isfinite(d1c)
+        r = {"agree": float(np.mean(bf == bc)), "mean_flat": float(bf.mean()), "mean_coupled": float(bc.mean()),
+             "mean_abs_change": float(np.mean(np.abs(bf - bc))),
+             "first_contact_ms_flat": float(np.median(d1f[ok]) * 1e3) if ok.any() else None,
+             "first_contact_ms_coupled": float(np.median(d1c[ok]) * 1e3) if ok.any() else None, "wall_s": wall}
+        out[label] = r
+        print(f"{label} vs flat over {n} random throws: same count {r['agree']:.0%}; mean bounces "
+              f"{r['mean_flat']:.2f} flat, {r['mean_coupled']:.2f} coupled (mean |change| {r['mean_abs_change']:.2f}); "
+              f"median first contact {r['first_contact_ms_flat']:.1f} ms flat, "
+              f"{r['first_contact_ms_coupled']:.1f} ms coupled; {wall:.0f} s wall")
+    return out
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--quick", action="store_true")
+    ap.add_argument("--sections", default="steps,throw,coupling")
+    ap.add_argument("--json", metavar="PATH")
+    args = ap.parse_args(argv)
+    sections = {"steps": section_steps, "throw": section_throw, "coupling": section_coupling}
+    out = {}
+    for name in args.sections.split(","):
+        if name not in sections:
+            ap.error(f"--sections: unknown section {name!r}; choose from {', '.join(sections)}")
+        print(f"== {name}", flush=True)
+        out[name] = sections[name](args.quick)
+    if args.json:
+        with open(args.json, "w") as fh:
+            json.dump(out, fh, indent=1)
+
+
+if __name__ == "__main__":
+    main()
