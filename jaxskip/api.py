@@ -22,9 +22,11 @@ from ._checks import ParameterError, check_int, check_positive
 from .body import RigidStone, rigid_stone
 from .forces import WaterParams, water_params
 from .mesh import TriMesh
+from .coupled import default_water_dt, initial_field, make_coupled_step
 from .simulate import OUTCOMES, STEP_LIMIT, SimConfig, _new_tracker, _scan, initial_state, make_step
 from .stones import load_stone
 from .throw import Throw
+from .water import WaterGrid, total_volume
 
 
 @dataclasses.dataclass(frozen=True)
@@ -80,6 +82,13 @@ class ThrowResult:
     water: WaterParams
     wall_time: float
     """Wall-clock time of the simulation, compile included [s]."""
+    field: dict | None = None
+    """With a height field (``simulate(water_field=...)``): ``shape`` (nx, ny), ``spacing`` [m],
+    ``depth`` [m], ``time_step`` [s] (the water's step, ``water_dt``), ``clamp``,
+    ``volume_change`` (relative change of the window's water volume over the run; the
+    window exchanges water with the lake at its sponge border, so it need not be 0) and
+    ``frames``: list of snapshots ``(time [s], origin (2,) [m], height (nx, ny) [m],
+    position (3,) [m], orientation (4,))``, one per chunk."""
 
     def to_dict(self) -> dict:
         """JSON-ready summary with the resolved parameters (user units alongside SI)."""
@@ -116,6 +125,7 @@ class ThrowResult:
                 "max_steps": self.config.max_steps,
             },
             "wall_time": self.wall_time,
+            **({"water": {k: v for k, v in self.field.items() if k != "frames"}} if self.field else {}),
         }
 
 
@@ -145,10 +155,13 @@ def resolve_stone(stone, *, mass=None, density=None) -> tuple[RigidStone, str]:
 
 
 @functools.lru_cache(maxsize=32)
-def _chunk_runner(config: SimConfig, chunk: int):
-    """One compiled chunk of ``chunk`` steps per configuration (memoised: no recompiles)."""
+def _chunk_runner(config: SimConfig, chunk: int, grid=None):
+    """One compiled chunk of ``chunk`` steps per configuration (memoised: no recompiles).
+
+    With a :class:`jaxskip.water.WaterGrid` the step is the coupled one (carry includes the field).
+    """
     config = dataclasses.replace(config, record=True)  # simulate() always returns the trajectory
-    step = make_step(config)
+    step = make_step(config) if grid is None else make_coupled_step(config, grid)
     chunk_config = dataclasses.replace(config, max_steps=chunk, segment=min(config.segment, chunk), checkpoint=0)
 
     @jax.jit
@@ -168,8 +181,9 @@ def simulate(
     config: SimConfig | None = None,
     chunk: int = 1000,
     progress: bool = False,
+    water_field: WaterGrid | None = None,
 ) -> ThrowResult:
-    """Simulate one throw on flat water.
+    """Simulate one throw on flat water, or on a height field that follows the stone.
 
     Parameters
     ----------
@@ -182,6 +196,10 @@ def simulate(
     chunk : steps per compiled chunk; the run stops after the first chunk in
         which the stone goes out of play.
     progress : print a progress line to stderr.
+    water_field : a :class:`jaxskip.water.WaterGrid` (e.g. :func:`jaxskip.coupled.default_window`):
+        two-way coupled water in a window that follows the stone (:mod:`jaxskip.coupled`);
+        ``result.field`` then holds the grid, the volume change and a snapshot per chunk.
+        Default None: flat water.
 
     Examples
     --------
@@ -202,18 +220,29 @@ def simulate(
     water = water_params(config.force.law) if water is None else water
     rigid, name = resolve_stone(stone, mass=mass, density=density)
 
+    if water_field is not None and not isinstance(water_field, WaterGrid):
+        raise ParameterError(f"water_field must be a jaxskip.water.WaterGrid or None, got {water_field!r}")
     compiled_before = _chunk_runner.cache_info().currsize
-    run = _chunk_runner(config, chunk)
+    run = _chunk_runner(config, chunk, water_field)
     if progress and _chunk_runner.cache_info().currsize > compiled_before:
         print("  compiling the simulator for this configuration (once, ~2 s)...", file=sys.stderr, flush=True)
 
     state = initial_state(throw, rigid)
     carry = (state, _new_tracker(config.max_contacts, state.position.dtype))
+    frames = []
+    if water_field is not None:
+        carry = carry + (initial_field(water_field, state.position),)
+        volume0 = float(total_volume(water_field, carry[2].water))
     records = []
     done = 0
     while done < config.max_steps:
         carry, rec = run(carry, rigid, water)
         records.append(jax.device_get(rec))
+        if water_field is not None:
+            f = carry[2]
+            frames.append((float(carry[0].time), np.asarray(f.offset) * water_field.spacing,
+                           np.asarray(f.water.height), np.asarray(carry[0].position),
+                           np.asarray(carry[0].orientation)))
         done += chunk
         alive = bool(carry[1].alive)
         if progress:
@@ -222,7 +251,14 @@ def simulate(
             break
     if progress:
         print(file=sys.stderr)
-    state, tr = jax.device_get(carry)
+    field = None
+    if water_field is not None:
+        volume1 = float(total_volume(water_field, carry[2].water))
+        field = {"shape": list(water_field.shape), "spacing": water_field.spacing, "depth": water_field.depth,
+                 "time_step": default_water_dt(water_field), "clamp": water_field.clamp,
+                 "boundary": water_field.boundary, "volume_change": (volume1 - volume0) / volume0,
+                 "frames": frames}
+    state, tr = jax.device_get(carry[:2])
     n_alive = int(np.sum([np.sum(np.diff(r.time, prepend=-1.0) > 0) for r in records]))
     traj = {k: np.concatenate([getattr(r, k) for r in records])[:n_alive] for k in
             ("time", "position", "orientation", "wetted_area", "force")}
@@ -244,5 +280,5 @@ def simulate(
     return ThrowResult(
         bounces=int(tr.bounces), contacts=contacts, n_contacts=int(tr.contacts), distance=distance,
         outcome=outcome, final_time=end_time, steps=n_alive, trajectory=traj, throw=throw, config=config,
-        stone_name=name, mass=float(rigid.mass), water=water, wall_time=time.perf_counter() - t0,
+        stone_name=name, mass=float(rigid.mass), water=water, wall_time=time.perf_counter() - t0, field=field,
     )

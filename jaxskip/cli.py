@@ -65,6 +65,13 @@ def build_parser() -> argparse.ArgumentParser:
     t.add_argument("--max-steps", type=int, default=12000, metavar="N", help="step budget (default 12000)")
     t.add_argument("--json", action="store_true", help="print one JSON object on stdout")
     t.add_argument("--plot", metavar="PATH", default=None, help="write the side view (PNG/PDF/SVG)")
+    t.add_argument("--water", choices=("flat", "field"), default="flat",
+                   help="flat water (default, the validated model) or a two-way coupled height field in a "
+                        "window that follows the stone (64x64 columns of 1 cm, depth 2 cm)")
+    t.add_argument("--water-plot", metavar="PATH", default=None,
+                   help="(--water field) write the ripples: shaded top view and 3-D view (PNG/PDF/SVG)")
+    t.add_argument("--animate", metavar="PATH.gif", default=None,
+                   help="(--water field) write an animation of the stone and the water (GIF)")
     from .cli_search import add_parsers
 
     add_parsers(sub, _float)
@@ -105,26 +112,53 @@ def _throw(args) -> int:
                        attitude=args.attitude, force=ForceModel(law=args.force_law, velocity=args.velocity))
     water = water_params(args.force_law, c_lift=args.c_lift, c_friction=args.c_friction)
     stone, _ = resolve_stone(args.stone, mass=args.mass, density=args.density)
-    if args.plot is not None and not str(args.plot).lower().endswith((".png", ".pdf", ".svg")):
-        from ._checks import ParameterError
+    from ._checks import ParameterError
 
-        raise ParameterError(f"--plot must end in .png, .pdf or .svg, got {args.plot!r}")
+    for flag, path in (("--plot", args.plot), ("--water-plot", args.water_plot)):
+        if path is not None and not str(path).lower().endswith((".png", ".pdf", ".svg")):
+            raise ParameterError(f"{flag} must end in .png, .pdf or .svg, got {path!r}")
+    if args.animate is not None and not str(args.animate).lower().endswith(".gif"):
+        raise ParameterError(f"--animate must end in .gif, got {args.animate!r}")
+    if args.water == "flat" and (args.animate or args.water_plot):
+        raise ParameterError("--animate and --water-plot need --water field (flat water has no ripples to draw)")
     progress = sys.stderr.isatty() and not args.json
-    result = simulate(throw, stone, water=water, config=config, progress=progress)
+    field = None
+    if args.water == "field":
+        from .coupled import default_window
+
+        field = default_window()
+    # With a field, snapshot the water every 40 steps (10 ms in contact) for the pictures.
+    chunk = 40 if (args.animate or args.water_plot) else 1000
+    result = simulate(throw, stone, water=water, config=config, progress=progress, water_field=field, chunk=chunk)
     result = dataclasses.replace(result, stone_name=_stone_label(args.stone))
     if args.plot:
         from .plotting import plot_throw
 
         plot_throw(result, args.plot)
+    if args.water_plot:
+        from .plotting import plot_water
+
+        plot_water(result, stone, args.water_plot)
+    if args.animate:
+        from .plotting import animate_throw
+
+        animate_throw(result, stone, args.animate)
     if args.json:
         out = result.to_dict()
-        if args.plot:
-            out["plot"] = str(args.plot)
+        for key in ("plot", "water_plot", "animate"):
+            if getattr(args, key):
+                out[key] = str(getattr(args, key))
         print(json.dumps(out, allow_nan=False))  # strict JSON: unknown values are null
     else:
         print(_summary(result))
-        if args.plot:
-            print(f"picture: {args.plot}")
+        if result.field:
+            w = result.field
+            print(f"water: height field {w['shape'][0]}x{w['shape'][1]} columns of {w['spacing'] * 100:g} cm, "
+                  f"depth {w['depth'] * 100:g} cm, step {w['time_step'] * 1e3:g} ms, clamp {w['clamp']}; "
+                  f"window volume change {w['volume_change']:+.2e}")
+        for label, key in (("picture", "plot"), ("ripples", "water_plot"), ("animation", "animate")):
+            if getattr(args, key):
+                print(f"{label}: {getattr(args, key)}")
     return 0
 
 

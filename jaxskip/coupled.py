@@ -53,7 +53,7 @@ from . import quaternion as quat
 from .body import RigidStone
 from .forces import WaterParams, triangle_forces
 from .simulate import STEP_LIMIT, SimConfig, _new_tracker, _scan, initial_state, make_step
-from ._checks import check_range
+from ._checks import check_int, check_range
 from .throw import Throw
 from .water import WaterGrid, WaterState, deposit, height_at, make_water_step, still_water
 
@@ -62,6 +62,23 @@ def default_window() -> WaterGrid:
     """The default moving water window: 64² columns of 1 cm, depth 2 cm, sponge border, smooth clamp."""
     return WaterGrid(shape=(64, 64), spacing=0.01, depth=0.02, boundary="sponge", sponge_width=8,
                      clamp="smooth")
+
+
+def _spread(a, passes: int):
+    """Smooth a column field with ``passes`` passes of the [1, 2, 1]/4 filter along x and y.
+
+    Keeps the total (away from the window's border, where the push never is)."""
+    for _ in range(passes):
+        p = jnp.pad(a, ((1, 1), (0, 0)))
+        a = 0.25 * p[:-2, :] + 0.5 * p[1:-1, :] + 0.25 * p[2:, :]
+        p = jnp.pad(a, ((0, 0), (1, 1)))
+        a = 0.25 * p[:, :-2] + 0.5 * p[:, 1:-1] + 0.25 * p[:, 2:]
+    return a
+
+
+def default_water_dt(grid: WaterGrid) -> float:
+    """The coupled water's step [s]: 1 ms (a tenth of a contact), or the grid's stable step if shorter."""
+    return min(1e-3, grid.time_step)
 
 
 def _shift(a, d, fill):
@@ -92,7 +109,8 @@ def recentre(grid: WaterGrid, water: WaterState, offset, position):
     return shifted, new
 
 
-def make_coupled_step(config: SimConfig, grid: WaterGrid, water_dt: float | None = None, two_way: bool = True):
+def make_coupled_step(config: SimConfig, grid: WaterGrid, water_dt: float | None = None, two_way: bool = True,
+                      spread: int = 2):
     """Return the pure coupled step ``step(carry, stone, water) -> (carry, record)``.
 
     ``carry = (StoneState, Tracker, Field)``; ``record`` is the stone's
@@ -102,15 +120,21 @@ def make_coupled_step(config: SimConfig, grid: WaterGrid, water_dt: float | None
     ``min(1 ms, grid.time_step)``); the stone's push is averaged over them.
     ``two_way=False``: the stone does not push the water (one-way: it reads a
     field that stays as it started; from still water this is flat water).
+    ``spread``: passes of a [1, 2, 1]/4 filter over the push before it reaches
+    the water (each triangle's force lands on the columns of its centroid; the
+    filter spreads it over ~``spread`` columns, a triangle's size, instead of
+    exciting the grid's shortest, checkerboard waves). 0: no spreading.
     """
-    water_dt = min(1e-3, grid.time_step) if water_dt is None else check_range(
+    water_dt = default_water_dt(grid) if water_dt is None else check_range(
         "water_dt", water_dt, 0.0, grid.time_step, unit="s", low_open=True)
+    check_int("spread", spread, minimum=0, maximum=100)
     water_step = make_water_step(grid)
     dt_max = grid.time_step
 
     def advance_water(f: Field, position):
         field, offset = recentre(grid, f.water, f.offset, position)
-        field = water_step(field, f.impulse / f.pending, jnp.minimum(f.pending, dt_max))
+        push = _spread(f.impulse / f.pending, spread)
+        field = water_step(field, push, jnp.minimum(f.pending, dt_max))
         zero = jnp.zeros_like(f.pending)
         return Field(field, offset, jnp.zeros_like(f.impulse), zero)
 
@@ -152,6 +176,15 @@ class Field:
     """() stone time [s] since the last water step."""
 
 
+def initial_field(grid: WaterGrid, position) -> Field:
+    """Still water in a window centred on ``position`` (3,) [m], nothing pending."""
+    dtype = position.dtype
+    nx, ny = grid.shape
+    offset = (jnp.round(position[:2] / grid.spacing).astype(jnp.int32)
+              - jnp.array([nx // 2, ny // 2], jnp.int32))
+    return Field(still_water(grid, dtype=dtype), offset, jnp.zeros(grid.shape, dtype), jnp.zeros((), dtype))
+
+
 def rollout_coupled(config: SimConfig, grid: WaterGrid, throw: Throw, stone: RigidStone, water: WaterParams,
                     water_dt: float | None = None, two_way: bool = True):
     """One throw on a height field that follows the stone: pure, jit/vmap/grad-able.
@@ -161,16 +194,11 @@ def rollout_coupled(config: SimConfig, grid: WaterGrid, throw: Throw, stone: Rig
     starts still. ``water_dt`` and ``two_way`` as in :func:`make_coupled_step`.
     """
     state = initial_state(throw, stone)
-    dtype = state.position.dtype
-    nx, ny = grid.shape
-    offset = (jnp.round(state.position[:2] / grid.spacing).astype(jnp.int32)
-              - jnp.array([nx // 2, ny // 2], jnp.int32))
-    field = Field(still_water(grid, dtype=dtype), offset, jnp.zeros(grid.shape, dtype), jnp.zeros((), dtype))
-    carry = (state, _new_tracker(config.max_contacts, dtype), field)
+    carry = (state, _new_tracker(config.max_contacts, state.position.dtype), initial_field(grid, state.position))
     step = make_coupled_step(config, grid, water_dt, two_way)
     (state, tr, field), recs = _scan(config, step, carry, stone, water)
     tr = dataclasses.replace(tr, outcome=jnp.where(tr.alive, STEP_LIMIT, tr.outcome).astype(jnp.int32))
     return state, tr, (recs if config.record else None), field
 
 
-__all__ = ["Field", "default_window", "make_coupled_step", "recentre", "rollout_coupled"]
+__all__ = ["Field", "default_water_dt", "default_window", "initial_field", "make_coupled_step", "recentre", "rollout_coupled"]

@@ -67,3 +67,139 @@ def plot_throw(result, path=None, *, ax=None):
         fig.savefig(path, dpi=130)
         plt.close(fig)
     return fig
+
+
+def _stone_world(stone, position, orientation):
+    """The stone's triangles in the world frame (F, 3, 3) [m] at a frame's pose (NumPy)."""
+    from . import quaternion as quat
+
+    R = np.asarray(quat.to_matrix(np.asarray(orientation)))
+    return np.asarray(position)[None, None, :] + np.einsum("ij,ftj->fti", R, np.asarray(stone.triangles))
+
+
+def _frame_extent(field, origin):
+    nx, ny = field["shape"]
+    l = field["spacing"]  # noqa: E741
+    return (origin[0] - l / 2, origin[0] + (nx - 0.5) * l, origin[1] - l / 2, origin[1] + (ny - 0.5) * l)
+
+
+def plot_water(result, stone, path=None, *, frame=None):
+    """Ripples after impacts (the seed paper's Fig. 7): a shaded top view and a 3-D view with the stone.
+
+    Parameters
+    ----------
+    result : a :class:`jaxskip.api.ThrowResult` from ``simulate(..., water_field=...)``.
+    stone : the :class:`jaxskip.RigidStone` that was thrown (drawn at the frame's pose).
+    path : if given, save there (PNG/PDF/SVG) and close the figure.
+    frame : index into ``result.field["frames"]``; default the most disturbed frame.
+
+    Returns the matplotlib figure.
+    """
+    import matplotlib
+
+    if path is not None:
+        matplotlib.use("Agg", force=False)
+    import matplotlib.pyplot as plt
+    from matplotlib.colors import LightSource
+    from mpl_toolkits.mplot3d.art3d import Poly3DCollection
+
+    field = _check_field(result)
+    frames = field["frames"]
+    depth = field["depth"]
+    if frame is None:
+        frame = int(np.argmax([np.abs(f[2] - depth).max() for f in frames]))
+    t, origin, height, position, orientation = frames[frame]
+    elev = (height - depth) * 1e3                      # [mm]
+    extent = _frame_extent(field, origin)
+    fig = plt.figure(figsize=(11, 4.6))
+    ax = fig.add_subplot(1, 2, 1)
+    lim = max(float(np.abs(elev).max()), 1e-6)
+    shade = LightSource(azdeg=315, altdeg=35).shade(elev.T, cmap=plt.get_cmap("RdBu_r"), vert_exag=20.0,
+                                                    blend_mode="soft", vmin=-lim, vmax=lim)
+    ax.imshow(shade, origin="lower", extent=extent, interpolation="bilinear")
+    tri = _stone_world(stone, position, orientation)
+    for f in tri:
+        ax.fill(f[:, 0], f[:, 1], color="0.35", alpha=0.5, lw=0)
+    ax.set_xlabel("x [m]")
+    ax.set_ylabel("y [m]")
+    ax.set_title(f"surface at t = {t:.3f} s (±{lim:.1f} mm, shaded)", fontsize=10)
+    sm = plt.cm.ScalarMappable(cmap="RdBu_r", norm=plt.Normalize(-lim, lim))
+    fig.colorbar(sm, ax=ax, label="elevation [mm]", shrink=0.8)
+
+    ax3 = fig.add_subplot(1, 2, 2, projection="3d")
+    nx, ny = field["shape"]
+    xs = origin[0] + field["spacing"] * np.arange(nx)
+    ys = origin[1] + field["spacing"] * np.arange(ny)
+    X, Y = np.meshgrid(xs, ys, indexing="ij")
+    ax3.plot_surface(X, Y, (height - depth) * 100, cmap="Blues_r", linewidth=0, antialiased=True, alpha=0.85)
+    ax3.add_collection3d(Poly3DCollection(list(np.stack([tri[..., 0], tri[..., 1], tri[..., 2] * 100], -1)),
+                                          facecolor="0.45", edgecolor="0.2", linewidths=0.3))
+    ax3.set_xlabel("x [m]")
+    ax3.set_ylabel("y [m]")
+    ax3.set_zlabel("z [cm]")
+    ax3.set_title(f"{result.bounces} bounces; window {nx}×{ny}, {field['spacing'] * 100:.0f} cm columns",
+                  fontsize=10)
+    fig.tight_layout()
+    if path is not None:
+        fig.savefig(path, dpi=120)
+        plt.close(fig)
+    return fig
+
+
+def _check_field(result):
+    from ._checks import ParameterError
+
+    if not getattr(result, "field", None) or not result.field.get("frames"):
+        raise ParameterError("this result has no water field: simulate it with water_field=WaterGrid(...)")
+    return result.field
+
+
+def animate_throw(result, stone, path, *, fps: int = 20):
+    """Write an animation (GIF by extension ``.gif``) of the stone over the water, one frame per snapshot.
+
+    Top view of the window's surface elevation with the stone's footprint, and the
+    side view of the trajectory so far. ``result`` from ``simulate(..., water_field=...)``.
+    """
+    import matplotlib
+
+    matplotlib.use("Agg", force=False)
+    import matplotlib.pyplot as plt
+    from matplotlib.animation import FuncAnimation, PillowWriter
+
+    from ._checks import ParameterError
+
+    if not str(path).lower().endswith(".gif"):
+        raise ParameterError(f"the animation path must end in .gif, got {path!r}")
+    field = _check_field(result)
+    frames = field["frames"]
+    depth = field["depth"]
+    lim = max(max(float(np.abs(f[2] - depth).max()) for f in frames) * 1e3, 1e-6)
+    pos = np.asarray(result.trajectory["position"])
+    times = np.asarray(result.trajectory["time"])
+    fig, (top, side) = plt.subplots(1, 2, figsize=(10, 4.2), width_ratios=[1, 1.4])
+
+    def draw(i):
+        top.clear()
+        side.clear()
+        t, origin, height, position, orientation = frames[i]
+        top.imshow(((height - depth) * 1e3).T, origin="lower", extent=_frame_extent(field, origin),
+                   cmap="RdBu_r", vmin=-lim, vmax=lim, interpolation="bilinear")
+        for f in _stone_world(stone, position, orientation):
+            top.fill(f[:, 0], f[:, 1], color="0.3", alpha=0.6, lw=0)
+        top.set_title(f"t = {t:.3f} s  (elevation ±{lim:.1f} mm)", fontsize=9)
+        top.set_xlabel("x [m]")
+        top.set_ylabel("y [m]")
+        seen = times <= t
+        side.axhline(0.0, color="#2f6fb0", lw=1.0)
+        side.plot(pos[seen, 0], pos[seen, 2] * 100, color="0.2", lw=1.0)
+        side.plot([position[0]], [position[2] * 100], "o", color="#d1495b")
+        side.set_xlim(min(pos[:, 0].min(), 0) - 0.1, pos[:, 0].max() + 0.2)
+        side.set_ylim(min(-2.0, pos[:, 2].min() * 100 - 0.5), max(pos[:, 2].max() * 115, 2.0))
+        side.set_xlabel("downrange x [m]")
+        side.set_ylabel("height [cm]")
+        side.set_title(f"{result.bounces} bounces, {result.outcome.replace('_', ' ')}", fontsize=9)
+
+    anim = FuncAnimation(fig, draw, frames=len(frames), interval=1000 / fps)
+    anim.save(path, writer=PillowWriter(fps=fps))
+    plt.close(fig)
+    return path

@@ -83,3 +83,29 @@ def test_open_obj_is_refused(tmp_path):
     path.write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 2 3 4\n")
     p = run("throw", "--stone", str(path))
     assert p.returncode == 2 and "Traceback" not in p.stderr and "open.obj" in p.stderr
+
+
+def test_water_field_json_animation_and_picture(tmp_path):
+    """--water field: the JSON gains `water` (grid, step, volume change); the GIF and the ripple
+    picture are written. A short throw keeps it quick."""
+    gif, png = tmp_path / "throw.gif", tmp_path / "ripples.png"
+    p = run("throw", "--water", "field", "--json", "--speed", "4", "--duration", "0.15",
+            "--animate", str(gif), "--water-plot", str(png))
+    assert p.returncode == 0, p.stderr
+    out = json.loads(p.stdout)
+    w = out["water"]
+    assert w["shape"] == [64, 64] and w["spacing"] == 0.01 and 0 < w["time_step"] <= 1e-3
+    assert abs(w["volume_change"]) < 0.05
+    assert gif.read_bytes()[:6] in (b"GIF89a", b"GIF87a") and gif.stat().st_size > 10_000
+    assert png.read_bytes()[:4] == b"\x89PNG"
+
+
+@pytest.mark.parametrize("args,needle", [
+    (("--animate", "x.gif"), "--water field"),
+    (("--water", "field", "--animate", "x.png"), "--animate"),
+    (("--water", "field", "--water-plot", "x.gif"), "--water-plot"),
+    (("--water", "lake"), "--water"),
+])
+def test_water_flags_bad_input(args, needle):
+    p = run("throw", *args)
+    assert p.returncode == 2 and needle in p.stderr and "Traceback" not in p.stderr
