@@ -1,0 +1,45 @@
+"""Shared set-up of the notebooks in ``notebooks/`` (quick/full mode, figure folder, float64).
+
+>>> run = notebook_mode("example", default_out="/tmp/jaxskip-figures")
+>>> run.figure("x.png").endswith("x.png")
+True
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import os
+import time
+
+
+@dataclasses.dataclass(frozen=True)
+class NotebookRun:
+    """How a notebook runs: ``quick`` (``JAXSKIP_QUICK=1``, for CI) or full, where figures go."""
+
+    name: str
+    quick: bool
+    """True in quick mode (small batches, few points)."""
+    out: str
+    """Folder for figures (``JAXSKIP_NOTEBOOK_OUT``, default ``notebooks/figures``)."""
+    started: float
+    """``time.perf_counter()`` at set-up [s]."""
+
+    def figure(self, filename: str) -> str:
+        """Path of a figure in :attr:`out`."""
+        return os.path.join(self.out, filename)
+
+    def done(self, path: str) -> None:
+        """Print the figure's path, the elapsed time and the mode."""
+        print(f"figure: {path}; {time.perf_counter() - self.started:.0f} s ({'quick' if self.quick else 'full'} mode)")
+
+
+def notebook_mode(name: str, default_out: str) -> NotebookRun:
+    """Read the mode from the environment, make the figure folder, switch on float64 and a file backend."""
+    import jax
+    import matplotlib
+
+    matplotlib.use("Agg")
+    jax.config.update("jax_enable_x64", True)
+    out = os.environ.get("JAXSKIP_NOTEBOOK_OUT", default_out)
+    os.makedirs(out, exist_ok=True)
+    return NotebookRun(name, os.environ.get("JAXSKIP_QUICK") == "1", out, time.perf_counter())
