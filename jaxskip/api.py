@@ -223,7 +223,8 @@ def simulate(
     if water_field is not None and not isinstance(water_field, WaterGrid):
         raise ParameterError(f"water_field must be a jaxskip.water.WaterGrid or None, got {water_field!r}")
     compiled_before = _chunk_runner.cache_info().currsize
-    run = _chunk_runner(config, chunk, water_field)
+    # (called with the same arguments as the tests and other callers, so lru_cache finds the same entry)
+    run = _chunk_runner(config, chunk) if water_field is None else _chunk_runner(config, chunk, water_field)
     if progress and _chunk_runner.cache_info().currsize > compiled_before:
         print("  compiling the simulator for this configuration (once, ~2 s)...", file=sys.stderr, flush=True)
 
