@@ -1,0 +1,135 @@
+# ---
+# jupyter:
+#   jupytext:
+#     formats: py:percent
+# ---
+
+# %% [markdown]
+# # Where the methods fail
+#
+# (1) the stone's contact time step: beyond which the integrator creates energy in a contact;
+# (2) the water's time step: growth of ripples around the derived bound √3/2 · l/√(gH);
+# (3) gradients against the horizon: the norm of d(distance)/d(speed) as the rollout grows over
+# many bounces; (4) the smooth bounce count's width against the spread of its gradient.
+# The library's guards are marked: `SimConfig` caps `dt` at 0.01 s, `WaterGrid` refuses a water
+# step beyond the bound, `optimize` clips gradients to norm 1 and zeroes non-finite ones.
+#
+# `python notebooks/stability.py` (full) or `JAXSKIP_QUICK=1 python notebooks/stability.py`.
+
+# %%
+import dataclasses
+import os
+
+import jax
+import jax.numpy as jnp
+import matplotlib.pyplot as plt
+import numpy as np
+
+from jaxskip.notebook import notebook_mode
+
+RUN = notebook_mode("stability", default_out=os.path.join(os.path.dirname(os.path.abspath(__file__)), "figures"))
+QUICK = RUN.quick
+
+from jaxskip import SimConfig, Throw, paper_stone, rigid_stone, rollout, water_params  # noqa: E402
+from jaxskip.water import WaterGrid, run_water, stable_dt, still_water  # noqa: E402
+from optimize import make_objective  # noqa: E402
+
+stone = rigid_stone(paper_stone(), density=2650.0)
+water = water_params()
+
+# %% [markdown]
+# ## 1. The contact time step
+# The fastest throw of the human box (12 m/s) and of the supported range (50 m/s), tilt held,
+# 5° attack: the stone's speed after its first contact must not exceed its speed before it.
+# "Fails" = energy gained, or a non-finite state.
+
+# %%
+dts = np.array([2.5e-4, 1e-3, 4e-3]) if QUICK else np.geomspace(1e-4, 8e-3, 14)
+gain = {}
+for speed in ((50.0,) if QUICK else (12.0, 50.0)):
+    for integrator in (("euler",) if QUICK else ("euler", "rk4")):
+        g = []
+        for dt in dts:
+            cfg = SimConfig(record=True, attitude="fixed", integrator=integrator, dt=float(dt),
+                            max_flight_step=max(0.02, float(dt)), max_steps=400, duration=10.0)
+            _, tr, rec = jax.jit(lambda t, c=cfg: rollout(c, t, stone, water))(
+                Throw.from_degrees(speed=speed, tilt=20.0, attack=5.0, spin=20.0))
+            v = np.linalg.norm(np.diff(np.asarray(rec.position), axis=0), axis=1) / np.maximum(
+                np.diff(np.asarray(rec.time)), 1e-30)
+            t = np.asarray(rec.time)[1:]
+            out = t > float(tr.t_end[0]) if np.isfinite(float(tr.t_end[0])) else np.zeros_like(t, bool)
+            after = v[out][0] if out.any() else np.nan
+            g.append(after / speed if np.isfinite(after) else np.inf)
+        gain[(speed, integrator)] = np.array(g)
+        bad = dts[np.asarray(g) > 1.0]
+        print(f"{speed:4.0f} m/s, {integrator:<5}: speed out/in = {np.round(g, 3).tolist()}; "
+              f"first failing dt: {bad.min() if bad.size else 'none'} s")
+fail = [dts[gain[(50.0, i)] > 1.0].min() if (gain[(50.0, i)] > 1.0).any() else np.inf for i in ("euler",)]
+print(f"default dt 2.5e-4 s is {fail[0] / 2.5e-4:.1f}x inside the euler failure step at 50 m/s")
+
+# %% [markdown]
+# ## 2. The water's time step
+
+# %%
+bound = stable_dt(0.01, 0.05)
+factors = [0.5, 0.9, 0.99, 1.01, 1.05, 1.2]
+noise = 1e-6 * np.random.default_rng(0).standard_normal((32, 32))
+growth = []
+for fct in factors:
+    grid = WaterGrid(shape=(32, 32), spacing=0.01, depth=0.05)
+    object.__setattr__(grid, "dt", fct * bound)      # past the guard, to show what it guards
+    s = run_water(grid, still_water(grid, grid.depth + noise), 2000)
+    growth.append(float(jnp.max(jnp.abs(s.height - grid.depth))) / np.abs(noise).max())
+print("ripple growth after the run at dt/bound = " + ", ".join(f"{f}: {g:.3g}" for f, g in zip(factors, growth)))
+
+# %% [markdown]
+# ## 3. Gradient norm against the horizon
+
+# %%
+horizons = [100, 600] if QUICK else [100, 200, 400, 800, 1600, 3200]
+norms = []
+for n in horizons:
+    cfg = SimConfig(record=False, max_steps=n, duration=100.0)
+    g = jax.jit(jax.grad(lambda t, c=cfg: rollout(c, t, stone, water)[0].position[0]))(Throw.from_degrees())
+    norms.append(float(np.sqrt(sum(float(getattr(g, k)) ** 2 for k in ("speed", "tilt", "attack", "spin")))))
+print("|d x_end / d throw| vs steps: " + ", ".join(f"{n}: {v:.3g}" for n, v in zip(horizons, norms)))
+
+# %% [markdown]
+# ## 4. The smooth bounce count: width against gradient spread
+# d(smooth count)/d(speed) at 16 speeds a few mm/s apart: a narrow width follows the true count's
+# steps (spiky gradients), a wide one smooths them out (and biases the count).
+
+# %%
+speeds = 8.0 + 0.005 * np.arange(16 if not QUICK else 6)
+widths = [2e-4, 1e-3] if QUICK else [5e-5, 1e-4, 2e-4, 5e-4, 1e-3]
+spread = []
+cfg = SimConfig(record=True, max_steps=1500)
+for w in widths:
+    f = make_objective("bounces", cfg, stone, water, width=w)
+    gfun = jax.jit(jax.grad(lambda v, f=f: f(dataclasses.replace(Throw.from_degrees(), speed=v))))
+    gs = np.array([float(gfun(jnp.asarray(v))) for v in speeds])
+    spread.append(float(np.std(gs)))
+    print(f"width {w:g} m: d(count)/d(speed) mean {gs.mean():+.3g}, std {gs.std():.3g} per m/s")
+
+# %%
+fig, ax = plt.subplots(1, 4, figsize=(18, 4))
+for (speed, integrator), g in gain.items():
+    ax[0].semilogx(dts, np.minimum(g, 3), "o-", label=f"{speed:g} m/s, {integrator}")
+ax[0].axhline(1.0, color="k", lw=0.8)
+ax[0].axvline(2.5e-4, color="C3", ls="--", label="default dt")
+ax[0].set(xlabel="contact dt [s]", ylabel="speed out / in (first contact)", title="(1) stone time step")
+ax[0].legend(fontsize=7)
+ax[1].semilogy(factors, growth, "o-")
+ax[1].axvline(1.0, color="C3", ls="--", label="bound (refused beyond)")
+ax[1].set(xlabel="dt / bound", ylabel="ripple growth", title="(2) water time step")
+ax[1].legend(fontsize=7)
+ax[2].loglog(horizons, norms, "o-")
+ax[2].set(xlabel="rollout steps", ylabel="|gradient| [m per unit]", title="(3) gradient vs horizon")
+ax[3].semilogx(widths, spread, "o-")
+ax[3].axvline(2e-4, color="C3", ls="--", label="default width")
+ax[3].set(xlabel="width [m]", ylabel="std of d(count)/d(speed)", title="(4) surrogate width")
+ax[3].legend(fontsize=7)
+fig.tight_layout()
+path = RUN.figure("stability.png")
+fig.savefig(path, dpi=110)
+RUN.done(path)
