@@ -106,6 +106,7 @@ True
 from __future__ import annotations
 
 import dataclasses
+import functools
 import math
 
 import jax
@@ -423,17 +424,23 @@ def make_water_step(grid: WaterGrid):
     return step
 
 
-def run_water(grid: WaterGrid, state: WaterState, steps: int, pressure=None):
-    """Advance ``steps`` water steps under a constant ``pressure`` [Pa] (default none), jitted scan."""
-    check_int("steps", steps, minimum=0, maximum=100_000_000)
+@functools.lru_cache(maxsize=32)
+def _water_runner(grid: WaterGrid, steps: int):
+    """A compiled scan of ``steps`` water steps, one per (grid, steps): no recompiles on new data."""
     step = make_water_step(grid)
-    p = jnp.zeros(grid.shape, state.height.dtype) if pressure is None else jnp.asarray(pressure)
 
     @jax.jit
     def go(s, p):
         return jax.lax.scan(lambda c, _: (step(c, p), None), s, None, length=steps)[0]
 
-    return go(state, p)
+    return go
+
+
+def run_water(grid: WaterGrid, state: WaterState, steps: int, pressure=None):
+    """Advance ``steps`` water steps under a constant ``pressure`` [Pa] (default none), jitted scan."""
+    check_int("steps", steps, minimum=0, maximum=100_000_000)
+    p = jnp.zeros(grid.shape, state.height.dtype) if pressure is None else jnp.asarray(pressure)
+    return _water_runner(grid, steps)(state, p)
 
 
 def total_volume(grid: WaterGrid, state: WaterState):

@@ -212,3 +212,16 @@ def test_height_at_is_bilinear():
 def test_bad_grid_input(kwargs, name):
     with pytest.raises(ParameterError, match=name):
         WaterGrid(**kwargs)
+
+
+def test_new_water_data_does_not_recompile():
+    """run_water compiles once per (grid, steps): new heights and pressures reuse it."""
+    from jaxskip.water import _water_runner
+
+    grid = WaterGrid(shape=(12, 14), spacing=0.01, depth=0.03)
+    run_water(grid, still_water(grid), 7)
+    runner = _water_runner(grid, 7)
+    before = runner._cache_size()
+    run_water(grid, still_water(grid, grid.depth + 0.001 * jnp.ones(grid.shape)), 7)
+    run_water(grid, still_water(grid), 7, pressure=jnp.full(grid.shape, 10.0))
+    assert runner._cache_size() == before == 1
