@@ -439,7 +439,11 @@ def _water_runner(grid: WaterGrid, steps: int):
 def run_water(grid: WaterGrid, state: WaterState, steps: int, pressure=None):
     """Advance ``steps`` water steps under a constant ``pressure`` [Pa] (default none), jitted scan."""
     check_int("steps", steps, minimum=0, maximum=100_000_000)
-    p = jnp.zeros(grid.shape, state.height.dtype) if pressure is None else jnp.asarray(pressure)
+    dtype = state.height.dtype
+    p = jnp.zeros(grid.shape, dtype) if pressure is None else jnp.asarray(pressure, dtype=dtype)
+    if p.shape != grid.shape:
+        raise ParameterError(f"pressure must have the grid's shape {grid.shape} (Pa per column), got {p.shape}")
+    # (asarray with the dtype makes it strongly typed: a weakly typed pressure would compile again)
     return _water_runner(grid, steps)(state, p)
 
 
