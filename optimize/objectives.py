@@ -23,6 +23,11 @@ under- or over-counts it by up to 1/2); wiggles of the gap around :math:`c`
 during a long skim add small amounts. Smaller :math:`w` approaches the true
 count but concentrates the gradient on fewer steps. The true count always
 comes from the exact simulation (:func:`jaxskip.simulate_batch`).
+
+Cost: :func:`make_objective` accumulates :math:`\tilde N` in the scan's carry
+(:func:`soft_bounce_rollout`) instead of stacking per-step records, so the
+reverse pass stores no per-step outputs and the rollout's segment and step
+checkpointing applies unchanged.
 """
 
 from __future__ import annotations
@@ -33,7 +38,7 @@ import jax
 import jax.numpy as jnp
 
 from jaxskip import RigidStone, SimConfig, Throw, WaterParams
-from jaxskip.simulate import initial_state, rollout
+from jaxskip.simulate import _new_tracker, _scan, initial_state, make_step, rollout
 
 #: Default clearance level [m]: the tracker's ``SimConfig.bounce_clearance``.
 CLEARANCE = 1e-3
@@ -55,6 +60,31 @@ def soft_bounce_count(records, clearance: float = CLEARANCE, width: float = WIDT
     return jnp.sum(jnp.where(live_next, jax.nn.relu(s[1:] - s[:-1]), 0.0))
 
 
+def soft_bounce_rollout(config: SimConfig, throw: Throw, stone: RigidStone, water: WaterParams,
+                        clearance: float = CLEARANCE, width: float = WIDTH):
+    r"""Roll a throw out and return ``(state, soft_count)``: :math:`\tilde N` summed in the carry.
+
+    The same surrogate as :func:`soft_bounce_count` of the records, without the records: each
+    live step adds :math:`\max(0, s_k - s_{k-1})` of the gap at its start; steps out of play add
+    nothing. ``config.record`` is ignored (nothing is stacked). Pure, jit/vmap/grad-able.
+    """
+    inner = make_step(dataclasses.replace(config, record=True))
+
+    def step(carry, stone, water):
+        state, tr, s_prev, total = carry
+        (state1, tr1), rec = inner((state, tr), stone, water)
+        s = jax.nn.sigmoid((rec.gap - clearance) / width)
+        live = tr.alive
+        total = total + jnp.where(live, jax.nn.relu(s - s_prev), 0.0)
+        return (state1, tr1, jnp.where(live, s, s_prev), total), None
+
+    state = initial_state(throw, stone)
+    one = jnp.ones((), state.position.dtype)
+    carry = (state, _new_tracker(config.max_contacts, state.position.dtype), one, 0.0 * one)
+    (state, _tr, _s, total), _ = _scan(dataclasses.replace(config, record=False), step, carry, stone, water)
+    return state, total
+
+
 def distance(state, throw: Throw, stone: RigidStone):
     """Horizontal distance [m] from release to the final position (differentiable)."""
     start = initial_state(throw, stone).position
@@ -65,16 +95,16 @@ def distance(state, throw: Throw, stone: RigidStone):
 def make_objective(kind: str, config: SimConfig, stone: RigidStone, water: WaterParams, width: float = WIDTH):
     """Return ``f(throw) -> ()`` to maximise: ``"bounces"`` (smooth count) or ``"distance"`` [m].
 
-    Pure and differentiable; ``config.record`` is switched on (the count needs the per-step records).
+    Pure and differentiable; nothing per step is stored (``config.record`` is ignored).
     """
     if kind not in ("bounces", "distance"):
         raise ValueError(f"objective must be 'bounces' or 'distance', got {kind!r}")
-    config = dataclasses.replace(config, record=True)
+    config = dataclasses.replace(config, record=False)
 
     def f(throw: Throw):
-        state, _tr, rec = rollout(config, throw, stone, water)
         if kind == "bounces":
-            return soft_bounce_count(rec, config.bounce_clearance, width)
+            return soft_bounce_rollout(config, throw, stone, water, config.bounce_clearance, width)[1]
+        state, _tr, _ = rollout(config, throw, stone, water)
         return distance(state, throw, stone)
 
     return f

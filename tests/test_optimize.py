@@ -9,7 +9,7 @@ import pytest
 
 from jaxskip import ParameterError, SimConfig, Throw, rollout
 from optimize import gradient_search, make_box, make_objective
-from optimize.objectives import soft_bounce_count
+from optimize.objectives import soft_bounce_count, soft_bounce_rollout
 
 FIELDS = ("speed", "tilt", "attack", "spin")
 
@@ -45,18 +45,32 @@ def test_surrogate_gradient_finite_over_random_throws(paper, water):
     assert float(jnp.mean(jnp.abs(g) > 0)) > 0.3  # not a flat function: most throws get a signal
 
 
+def _human_box_throws(n, seed):
+    """``n`` random throws of the human box (speed 3-12 m/s, tilt 5-45 deg, attack 0-30 deg, spin 0-20 rev/s)."""
+    rng = np.random.default_rng(seed)
+    return Throw.from_degrees(speed=rng.uniform(3, 12, n), tilt=rng.uniform(5, 45, n),
+                              attack=rng.uniform(0, 30, n), spin=rng.uniform(0, 20, n))
+
+
 def test_surrogate_agrees_with_true_count(paper, water):
     """Where the count is stable the rounded surrogate equals the exact count for most throws."""
-    rng = np.random.default_rng(1)
-    n = 16
-    throws = Throw.from_degrees(speed=rng.uniform(3, 12, n), tilt=rng.uniform(5, 45, n),
-                                attack=rng.uniform(0, 30, n), spin=rng.uniform(0, 20, n))
+    throws = _human_box_throws(16, seed=1)
     config = SimConfig(max_steps=4000)
     f = make_objective("bounces", config, paper, water)
     soft = np.asarray(jax.jit(jax.vmap(f))(throws))
     true = np.asarray(jax.jit(jax.vmap(lambda t: rollout(config, t, paper, water)[1].bounces))(throws))
     assert np.mean(np.round(soft) == true) >= 0.75, (soft.round(2), true)
     assert np.sum(true) > 10  # the sample does bounce
+
+
+def test_soft_count_in_the_carry_equals_the_records(paper, water):
+    """The objective sums the surrogate in the scan's carry; it equals the sum over stacked records."""
+    throws = _human_box_throws(4, seed=3)
+    config = SimConfig(max_steps=1500)
+    from_records = jax.vmap(lambda t: soft_bounce_count(rollout(config, t, paper, water)[2]))(throws)
+    in_carry = jax.vmap(lambda t: soft_bounce_rollout(config, t, paper, water)[1])(throws)
+    np.testing.assert_allclose(np.asarray(in_carry), np.asarray(from_records), rtol=1e-12, atol=1e-12)
+    assert float(jnp.sum(from_records)) > 2.0  # the sample does hop
 
 
 def test_soft_count_ignores_frozen_steps():
