@@ -37,6 +37,9 @@ def test_notebook_runs_in_quick_mode(name, tmp_path):
         # The default configuration lies on, or within 10 % of, the Pareto front.
         m = re.search(r"front's best at no more cost [\d.]+ \(([+-]\d+)%", out)
         assert m and int(m.group(1)) <= 10, out
+        # The height field changes the contact: flat water's first contact is > 20 % off the field's.
+        m = re.search(r"flat water \(library default\) .*first contact error ([\d.]+)%", out)
+        assert m and float(m.group(1)) > 20.0, out
     if name == "magic_angle.py":
         # Tilt held, Bocquet's law: U_min is lowest at 10-20 deg, near Clanet's 2.5 m/s (30 %), and more
         # than doubles by 50 deg; the free body at 65 rev/s follows the fixed-tilt curve within 25 % there.
@@ -59,3 +62,11 @@ def test_notebook_runs_in_quick_mode(name, tmp_path):
         assert m and float(m.group(1)) >= 2.0, out
         growth = dict(re.findall(r"([\d.]+): ([\d.e+]+)", re.search(r"ripple growth.*", out).group(0)))
         assert float(growth["0.99"]) < 10 and float(growth["1.01"]) > 100, out
+        # float32's smooth clipping is best near kappa 1e3-1e5 /m and loses to cancellation beyond
+        # (> 1e-3 at 1e8 /m), where float64 is still within 1e-8 of exact clipping.
+        err = {}
+        for prec in ("float64", "float32"):
+            m = re.search(prec + r": area error at kappa = 1e2, 1e4, 1e6, 1e8 /m: (.*?); smallest at kappa ([\d.e+]+)", out)
+            err[prec] = [float(v) for v in m.group(1).split(", ")] + [float(m.group(2))]
+        assert err["float32"][3] > 1e-3 and err["float64"][3] < 1e-8, out
+        assert 1e3 <= err["float32"][4] <= 1e5, out
