@@ -62,7 +62,7 @@ def soft_bounce_count(records, clearance: float = CLEARANCE, width: float = WIDT
 
 def soft_bounce_rollout(config: SimConfig, throw: Throw, stone: RigidStone, water: WaterParams,
                         clearance: float = CLEARANCE, width: float = WIDTH):
-    r"""Roll a throw out and return ``(state, soft_count)``: :math:`\tilde N` summed in the carry.
+    r"""Roll a throw out; return ``(state, tracker, soft_count)``: :math:`\tilde N` summed in the carry.
 
     The same surrogate as :func:`soft_bounce_count` of the records, without the records: each
     live step adds :math:`\max(0, s_k - s_{k-1})` of the gap at its start; steps out of play add
@@ -81,8 +81,8 @@ def soft_bounce_rollout(config: SimConfig, throw: Throw, stone: RigidStone, wate
     state = initial_state(throw, stone)
     one = jnp.ones((), state.position.dtype)
     carry = (state, _new_tracker(config.max_contacts, state.position.dtype), one, 0.0 * one)
-    (state, _tr, _s, total), _ = _scan(dataclasses.replace(config, record=False), step, carry, stone, water)
-    return state, total
+    (state, tr, _s, total), _ = _scan(dataclasses.replace(config, record=False), step, carry, stone, water)
+    return state, tr, total
 
 
 def distance(state, throw: Throw, stone: RigidStone):
@@ -103,7 +103,7 @@ def make_objective(kind: str, config: SimConfig, stone: RigidStone, water: Water
 
     def f(throw: Throw):
         if kind == "bounces":
-            return soft_bounce_rollout(config, throw, stone, water, config.bounce_clearance, width)[1]
+            return soft_bounce_rollout(config, throw, stone, water, config.bounce_clearance, width)[2]
         state, _tr, _ = rollout(config, throw, stone, water)
         return distance(state, throw, stone)
 
