@@ -68,7 +68,7 @@ def test_soft_count_in_the_carry_equals_the_records(paper, water):
     throws = _human_box_throws(4, seed=3)
     config = SimConfig(max_steps=1500)
     from_records = jax.vmap(lambda t: soft_bounce_count(rollout(config, t, paper, water)[2]))(throws)
-    in_carry = jax.vmap(lambda t: soft_bounce_rollout(config, t, paper, water)[1])(throws)
+    in_carry = jax.vmap(lambda t: soft_bounce_rollout(config, t, paper, water)[2])(throws)
     np.testing.assert_allclose(np.asarray(in_carry), np.asarray(from_records), rtol=1e-12, atol=1e-12)
     assert float(jnp.sum(from_records)) > 2.0  # the sample does hop
 
