@@ -79,8 +79,7 @@ def _full(box: Box, values: dict) -> dict:
 
 def _true_counts(box: Box, values: dict, stone, config: SimConfig) -> np.ndarray:
     throws = box.throws_from_user(values)
-    lanes = int(np.size(next(iter(values.values()))))
-    return simulate_batch(throws, stone, config=dataclasses.replace(config, record=False), lanes=lanes).bounces
+    return simulate_batch(throws, stone, config=dataclasses.replace(config, record=False)).bounces
 
 
 def _random_points(box: Box, n: int, rng) -> dict:
@@ -236,7 +235,7 @@ def _exhaustive(method: str, box: Box, values: dict, stone, config: SimConfig, l
 
 
 def grid_search(box: Box | None = None, *, per_axis: int = 10, stone="paper", config: SimConfig | None = None,
-                lanes: int = 256, progress: bool = False) -> SearchResult:
+                lanes: int | None = None, progress: bool = False) -> SearchResult:
     """Exhaustive search: every point of a regular grid simulated exactly (``per_axis`` ** P throws)."""
     box = make_box() if box is None else box
     config = SimConfig() if config is None else config
@@ -244,7 +243,7 @@ def grid_search(box: Box | None = None, *, per_axis: int = 10, stone="paper", co
 
 
 def random_search(box: Box | None = None, *, throws: int = 1000, stone="paper", config: SimConfig | None = None,
-                  lanes: int = 256, seed: int = 0, progress: bool = False) -> SearchResult:
+                  lanes: int | None = None, seed: int = 0, progress: bool = False) -> SearchResult:
     """Random search: ``throws`` uniform random points of the box simulated exactly."""
     box = make_box() if box is None else box
     config = SimConfig() if config is None else config
