@@ -59,10 +59,11 @@ from .throw import Throw
 from .water import WaterGrid, WaterState, deposit, height_at, make_water_step, still_water
 
 
-CLAMP_BLOCK = 0.32
-"""Side [m] of the block, placed around the columns that can run short (under the stone and
-in its wake), where the volume clamp's passes run (:func:`jaxskip.water.make_water_step`'s
-``clamp_block``); the whole window when they do not fit in it. Speed only: same answer."""
+CLAMP_BLOCKS = (0.32, 0.64)
+"""Sides [m] of the blocks, placed around the columns that can run short (under the stone and
+in its wake), where the volume clamp's passes run: the smallest that holds them
+(:func:`jaxskip.water.make_water_step`'s ``clamp_blocks``), the whole window when none does.
+Speed only: the same answer."""
 
 
 def default_window() -> WaterGrid:
@@ -137,8 +138,8 @@ def make_coupled_step(config: SimConfig, grid: WaterGrid, water_dt: float | None
     water_dt = default_water_dt(grid) if water_dt is None else check_range(
         "water_dt", water_dt, 0.0, grid.time_step, unit="s", low_open=True)
     check_int("spread", spread, minimum=0, maximum=100)
-    water_step = make_water_step(grid, clamp_block=tuple(min(n, max(8, math.ceil(CLAMP_BLOCK / grid.spacing)))
-                                                          for n in grid.shape))
+    water_step = make_water_step(grid, clamp_blocks=tuple(
+        tuple(min(n, max(8, math.ceil(side / grid.spacing))) for n in grid.shape) for side in CLAMP_BLOCKS))
     dt_max = grid.time_step
 
     def advance_water(f: Field, position):

@@ -380,7 +380,7 @@ def _sponge_rate(grid: WaterGrid):
     return grid.sponge_rate * r ** 2
 
 
-def make_water_step(grid: WaterGrid, clamp_block: tuple[int, int] | None = None):
+def make_water_step(grid: WaterGrid, clamp_blocks: tuple = ()):
     """Return the pure step ``step(state, pressure, dt=None) -> state`` for this grid.
 
     ``pressure``: external pressure on each column [Pa], shape ``(nx, ny)``
@@ -389,12 +389,13 @@ def make_water_step(grid: WaterGrid, clamp_block: tuple[int, int] | None = None)
     The caller keeps ``dt`` within :func:`stable_dt` (the coupled rollout does).
     Jit-, vmap- and grad-able.
 
-    ``clamp_block = (bx, by)`` (columns, static): the clamp bites only where a
-    column can run short (under and behind a stone). When all such columns fit
-    in a block of ``bx`` × ``by`` columns, the clamp's passes run on that block
-    alone, placed around them (outside it every factor is 1 to round-off, as when
-    the clamp is skipped); otherwise on the whole grid. The same answer, a fraction
-    of the cost on a large grid. None: always the whole grid.
+    ``clamp_blocks = ((bx, by), ...)`` (columns, static, smallest first): the
+    clamp bites only where a column can run short (under and behind a stone).
+    When all such columns fit in a block of ``bx`` × ``by`` columns, the clamp's
+    passes run on the first such block alone, placed around them (outside it
+    every factor is 1 to round-off, as when the clamp is skipped); when they fit
+    in none, on the whole grid. The same answer, a fraction of the cost on a
+    large grid. ``()``: always the whole grid.
 
     >>> import jax.numpy as jnp
     >>> grid = WaterGrid(shape=(16, 16), spacing=0.01, depth=0.05)
@@ -412,14 +413,15 @@ def make_water_step(grid: WaterGrid, clamp_block: tuple[int, int] | None = None)
     k_axis = c_axis / l                       # c / L, times g * (head difference) gives dQ/dt
     k_diag = c_diag / (math.sqrt(2.0) * l)
     sponge = _sponge_rate(grid) if grid.boundary == "sponge" else None
-    if clamp_block is not None:
-        nx, ny = grid.shape
-        if (not isinstance(clamp_block, tuple) or len(clamp_block) != 2
-                or not all(isinstance(v, int) and not isinstance(v, bool) for v in clamp_block)
-                or not (1 <= clamp_block[0] <= nx and 1 <= clamp_block[1] <= ny)):
-            raise ParameterError(f"clamp_block must be a tuple of 2 ints (bx, by) with 1 <= bx <= {nx} and "
-                                 f"1 <= by <= {ny} (the grid's shape), got {clamp_block!r}")
-        bx, by = clamp_block
+    nx, ny = grid.shape
+    if not isinstance(clamp_blocks, tuple):
+        raise ParameterError(f"clamp_blocks must be a tuple of (bx, by) pairs, got {clamp_blocks!r}")
+    for block in clamp_blocks:
+        if (not isinstance(block, tuple) or len(block) != 2
+                or not all(isinstance(v, int) and not isinstance(v, bool) for v in block)
+                or not (1 <= block[0] <= nx and 1 <= block[1] <= ny)):
+            raise ParameterError(f"clamp_blocks: each block must be a tuple of 2 ints (bx, by) with "
+                                 f"1 <= bx <= {nx} and 1 <= by <= {ny} (the grid's shape), got {block!r}")
 
     def _place(any_rows, size, n):
         """First index of a ``size`` block around the True entries of ``any_rows``, and whether they fit."""
@@ -446,14 +448,23 @@ def make_water_step(grid: WaterGrid, clamp_block: tuple[int, int] | None = None)
             out, _ = _split(*flows)
             margin = (1e-16 * grid.sharpness) ** (-1.0 / grid.sharpness) if grid.clamp == "smooth" else 1.0
             risk = margin * dt * out >= volume
-            if clamp_block is None:
+            if not clamp_blocks:
                 flows = jax.lax.cond(jnp.any(risk), lambda f: _clamp(grid, volume, f, dt), lambda f: f, flows)
             else:
-                i0, fit_x = _place(jnp.any(risk, axis=1), bx, nx)
-                j0, fit_y = _place(jnp.any(risk, axis=0), by, ny)
-                which = jnp.where(jnp.any(risk), jnp.where(fit_x & fit_y, 1, 2), 0)
-                flows = jax.lax.switch(which, (lambda f: f, lambda f: _clamp(grid, volume, f, dt, (i0, j0, bx, by)),
-                                               lambda f: _clamp(grid, volume, f, dt)), flows)
+                rows, cols = jnp.any(risk, axis=1), jnp.any(risk, axis=0)
+                branches = [lambda f: f]
+                which = len(clamp_blocks) + 1                 # none fits: the whole grid
+                for b, (bx, by) in reversed(list(enumerate(clamp_blocks))):
+                    i0, fit_x = _place(rows, bx, nx)
+                    j0, fit_y = _place(cols, by, ny)
+                    which = jnp.where(fit_x & fit_y, b + 1, which)
+                for b, (bx, by) in enumerate(clamp_blocks):
+                    i0, _ = _place(rows, bx, nx)
+                    j0, _ = _place(cols, by, ny)
+                    branches.append(lambda f, blk=(i0, j0, bx, by): _clamp(grid, volume, f, dt, blk))
+                branches.append(lambda f: _clamp(grid, volume, f, dt))
+                which = jnp.where(jnp.any(risk), which, 0)
+                flows = jax.lax.switch(which, branches, flows)
         height = h - (dt / area) * _net_out(*flows)
         if grid.clamp == "zero":
             height = jnp.maximum(height, 0.0)

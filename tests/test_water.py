@@ -230,15 +230,18 @@ def test_new_water_data_does_not_recompile():
 @pytest.mark.parametrize("clamp", ["reference", "smooth"])
 def test_clamp_on_a_block_gives_the_whole_grid_answer(clamp):
     """A dent moving across shallow water drains the columns under and behind it. Running the
-    clamp on a small block around them (``clamp_block``) gives the same water as clamping the
-    whole grid, step after step; so does the fallback to the whole grid when a second, distant
-    dent (from step 120) drains columns that no block of that size covers with the first."""
+    clamp on a small block around them (``clamp_blocks``) gives the same water as clamping the
+    whole grid, step after step; so do the larger block when a second dent (from step 120) drains
+    columns the first block cannot hold with the moving one's, and the whole grid when a third,
+    distant one (from step 200) leaves no block that holds them all."""
     grid = WaterGrid(shape=(48, 40), spacing=0.01, depth=0.005, clamp=clamp)
-    whole, block = make_water_step(grid), make_water_step(grid, clamp_block=(8, 6))
+    whole, block = make_water_step(grid), make_water_step(grid, clamp_blocks=((8, 6), (14, 12)))
 
     def pressure(k):   # 200 Pa (2 cm of water on 5 mm) on 3 x 3 columns, one column further every 8 steps
         moving = jax.lax.dynamic_update_slice(jnp.zeros(grid.shape), jnp.full((3, 3), 200.0), (8 + k // 8, 18))
-        return moving + jnp.where(k >= 120, 1.0, 0.0) * jnp.zeros(grid.shape).at[40:43, 2:5].set(200.0)
+        near = jnp.zeros(grid.shape).at[30:33, 12:15].set(200.0)   # with the moving one: the 2nd block
+        far = jnp.zeros(grid.shape).at[40:43, 2:5].set(200.0)      # no block: the whole grid
+        return moving + jnp.where(k >= 120, 1.0, 0.0) * near + jnp.where(k >= 200, 1.0, 0.0) * far
 
     @jax.jit
     def run(s0):
@@ -254,8 +257,8 @@ def test_clamp_on_a_block_gives_the_whole_grid_answer(clamp):
         np.testing.assert_allclose(np.asarray(y), np.asarray(x), rtol=1e-12, atol=1e-18)
 
 
-@pytest.mark.parametrize("block", [(0, 4), (4,), (49, 4), [4, 4], (4.0, 4)])
-def test_bad_clamp_block(block):
+@pytest.mark.parametrize("blocks", [((0, 4),), ((4,),), ((49, 4),), ([4, 4],), ((4.0, 4),), (4, 4), [(4, 4)]])
+def test_bad_clamp_blocks(blocks):
     grid = WaterGrid(shape=(48, 40), spacing=0.01, depth=0.005)
-    with pytest.raises(ParameterError, match="clamp_block"):
-        make_water_step(grid, clamp_block=block)
+    with pytest.raises(ParameterError, match="clamp_blocks"):
+        make_water_step(grid, clamp_blocks=blocks)
