@@ -50,9 +50,8 @@ import math
 import jax
 import jax.numpy as jnp
 
-from . import quaternion as quat
 from .body import RigidStone
-from .forces import WaterParams, triangle_forces
+from .forces import WaterParams
 from .simulate import STEP_LIMIT, SimConfig, _new_tracker, _scan, initial_state, make_step
 from ._checks import check_int, check_range
 from .throw import Throw
@@ -158,13 +157,8 @@ def make_coupled_step(config: SimConfig, grid: WaterGrid, water_dt: float | None
         state, tr, f = carry
         origin = f.offset.astype(state.position.dtype) * grid.spacing
         surface = lambda x, y: height_at(grid, f.water.height, x, y, origin=origin)  # noqa: E731
-        (state1, tr1), rec = make_step(config, surface)((state, tr), stone, water)
-
-        # The stone's push on the water over this step (start-of-step state), accumulated.
-        R = quat.to_matrix(state.orientation)
-        omega = jnp.zeros(3) * state.angular_velocity if config.attitude == "fixed" else state.angular_velocity
-        forces, centroid, _ = triangle_forces(config.force, water, stone, state.position, R, state.velocity,
-                                              omega, surface)
+        # The step also returns each triangle's force at the start-of-step state: the stone's push.
+        (state1, tr1), rec, (forces, centroid) = make_step(config, surface, push=True)((state, tr), stone, water)
         push = forces[:, 2] if two_way else 0.0 * forces[:, 2]
         h = state1.time - state.time          # 0 once the stone is out of play
         # pressure [Pa] = force / column area, times h: the impulse added in place (cost: the points)

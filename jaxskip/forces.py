@@ -232,7 +232,12 @@ def water_force(model: ForceModel, params: WaterParams, stone, position, R, velo
     -------
     force : (3,) [N]; torque : (3,) about the centre of mass [N m]; wetted : () immersed area [m^2].
     """
-    forces, centroid, area = triangle_forces(model, params, stone, position, R, velocity, omega, surface)
+    return total_force(*triangle_forces(model, params, stone, position, R, velocity, omega, surface), position)
+
+
+def total_force(forces, centroid, area, position):
+    """Sum :func:`triangle_forces`' output: force (3,) [N], torque (3,) about ``position`` [N m],
+    wetted area () [m^2]."""
     r = centroid - position[None, :]
     torque = jnp.sum(jnp.cross(r, forces), axis=0)
     return jnp.sum(forces, axis=0), torque, jnp.sum(area)

@@ -46,7 +46,7 @@ import jax.numpy as jnp
 from . import quaternion as quat
 from ._checks import check_choice, check_int, check_positive, check_range
 from .body import RigidStone
-from .forces import ForceModel, WaterParams, water_force, world_triangles
+from .forces import ForceModel, WaterParams, total_force, triangle_forces, world_triangles
 from .throw import Throw, attitude
 
 INTEGRATORS = ("euler", "rk4")
@@ -243,12 +243,14 @@ def _dynamics(config: SimConfig, stone: RigidStone, water: WaterParams, surface)
     def deriv(x, v, q, L):
         R = quat.to_matrix(q)
         omega = jnp.zeros(3) * L if fixed else quat.rotate(_world_inertia_inv(stone, R), L)
-        F, tau, wet = water_force(config.force, water, stone, x, R, v, omega, surface)
+        parts = triangle_forces(config.force, water, stone, x, R, v, omega, surface)
+        F, tau, wet = total_force(*parts, x)
         a = F / stone.mass + _gravity(water)
+        aux = (F, wet, parts[0], parts[1])      # + per-triangle forces and centroids (coupled water)
         if fixed:
-            return (v, a, jnp.zeros(4) * q, jnp.zeros(3) * L), (F, wet)
+            return (v, a, jnp.zeros(4) * q, jnp.zeros(3) * L), aux
         qdot = 0.5 * quat.multiply(jnp.concatenate([jnp.zeros(1) * L[:1], omega]), q)
-        return (v, a, qdot, tau), (F, wet)
+        return (v, a, qdot, tau), aux
 
     return deriv
 
@@ -347,11 +349,14 @@ def _log(buffer, index, write, value):
     return buffer.at[index].set(jnp.where(write, value, buffer[index]))
 
 
-def make_step(config: SimConfig, surface=_flat):
+def make_step(config: SimConfig, surface=_flat, push: bool = False):
     """Return the pure step ``step(carry, stone, water) -> (carry, record)``.
 
     ``carry = (StoneState, Tracker)``. ``surface(x, y) -> h`` is the water height
     [m] (flat water by default; the height-field model supplies its own).
+    ``push=True``: the step returns ``(carry, record, (forces, centroids))`` as well, the
+    per-triangle water forces (F, 3) [N] on the stone at the start of the step and their
+    immersed centroids (F, 3) [m] (zeros once out of play), for the coupled water.
     """
 
     def live_step(carry, stone: RigidStone, water: WaterParams):
@@ -360,7 +365,7 @@ def make_step(config: SimConfig, surface=_flat):
         R = quat.to_matrix(state.orientation)
         L = quat.rotate(_world_inertia(stone, R), state.angular_velocity)
         first = deriv(state.position, state.velocity, state.orientation, L)
-        F, wet_area = first[1]
+        F, wet_area, tri_forces, tri_centroids = first[1]
         # Height of every vertex above the water surface under it.
         tri, _ = world_triangles(stone, state.position, R)
         above = tri[..., 2] - surface(tri[..., 0], tri[..., 1])
@@ -413,10 +418,16 @@ def make_step(config: SimConfig, surface=_flat):
         new = StoneState(x1, v1, q1, w1, t + dt)
         state1 = jax.tree_util.tree_map(lambda a, b: jnp.where(alive, a, b), new, state)
         rec = Record(t, state.position, state.orientation, wet_area, F, gap) if config.record else None
+        if push:
+            return (state1, tr1), rec, (tri_forces, tri_centroids)
         return (state1, tr1), rec
 
     def frozen_step(carry, stone, water):
-        return carry, (_frozen_record(carry[0]) if config.record else None)
+        rec = _frozen_record(carry[0]) if config.record else None
+        if push:
+            zero = jnp.zeros_like(stone.normals) * carry[0].time
+            return carry, rec, (zero, zero)
+        return carry, rec
 
     def step(carry, stone: RigidStone, water: WaterParams):
         # Out of play: skip the work (a real branch for one throw; under vmap it becomes a select).
