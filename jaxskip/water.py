@@ -452,17 +452,15 @@ def make_water_step(grid: WaterGrid, clamp_blocks: tuple = ()):
                 flows = jax.lax.cond(jnp.any(risk), lambda f: _clamp(grid, volume, f, dt), lambda f: f, flows)
             else:
                 rows, cols = jnp.any(risk, axis=1), jnp.any(risk, axis=0)
-                branches = [lambda f: f]
-                which = len(clamp_blocks) + 1                 # none fits: the whole grid
-                for b, (bx, by) in reversed(list(enumerate(clamp_blocks))):
-                    i0, fit_x = _place(rows, bx, nx)
-                    j0, fit_y = _place(cols, by, ny)
-                    which = jnp.where(fit_x & fit_y, b + 1, which)
-                for b, (bx, by) in enumerate(clamp_blocks):
-                    i0, _ = _place(rows, bx, nx)
-                    j0, _ = _place(cols, by, ny)
+                branches, fits = [lambda f: f], []
+                for bx, by in clamp_blocks:
+                    (i0, fit_x), (j0, fit_y) = _place(rows, bx, nx), _place(cols, by, ny)
                     branches.append(lambda f, blk=(i0, j0, bx, by): _clamp(grid, volume, f, dt, blk))
+                    fits.append(fit_x & fit_y)
                 branches.append(lambda f: _clamp(grid, volume, f, dt))
+                which = len(clamp_blocks) + 1                 # none fits: the whole grid
+                for b in reversed(range(len(clamp_blocks))):  # else the smallest block that fits
+                    which = jnp.where(fits[b], b + 1, which)
                 which = jnp.where(jnp.any(risk), which, 0)
                 flows = jax.lax.switch(which, branches, flows)
         height = h - (dt / area) * _net_out(*flows)
