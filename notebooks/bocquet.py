@@ -116,8 +116,8 @@ print(f"U_min: mesh {umin_mesh:.2f} m/s, reduced {umin_red:.2f} m/s (Clanet et a
 # With the 6-DoF body (`attitude="free"`) spin keeps the tilt's *size*, but not its direction:
 # the water's lift acts behind the centre of mass, and on a spinning disk that pitching torque
 # turns into precession (gyroscopic), so the tilt's azimuth turns by ~1/spin per contact and the
-# disk ends up banked sideways (it also curves). Measured on this disk at 8 m/s: ~11° per contact
-# at 500 rev/s, ~60° at 65 rev/s. A sideways bank skips differently from the held tilt (more
+# disk ends up banked sideways (it also curves). Measured on this disk at 8 m/s, the first contact
+# turns it 105° at 50 rev/s, 55° at 100 and 14° at 400 (tests/test_dynamics.py). A sideways bank skips differently from the held tilt (more
 # bounces at 65–200 rev/s: 51, 75, 140 at 65, 100, 200 rev/s against 12), and only as the drift
 # per contact vanishes (500 rev/s: 8 bounces) does the free disk approach the fixed-tilt
 # (high-spin) count that Bocquet's and Clanet's analyses assume.
