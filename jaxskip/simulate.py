@@ -39,6 +39,7 @@ vmapped over throws and differentiated in reverse mode.
 from __future__ import annotations
 
 import dataclasses
+import math
 
 import jax
 import jax.numpy as jnp
@@ -154,18 +155,40 @@ class Tracker:
     """() time the current contact lost its last wet triangle [s]."""
     tilt_leave: jax.Array
     """() tilt at ``t_leave`` [rad]."""
-    t_start: jax.Array
-    """(K,) contact start times [s] (NaN: not reached)."""
-    t_end: jax.Array
-    """(K,) contact end times [s] (NaN: not ended)."""
-    x_start: jax.Array
-    """(K, 3) centre of mass at contact start [m]."""
-    tilt_start: jax.Array
-    """(K,) tilt at contact start [rad]."""
-    tilt_end: jax.Array
-    """(K,) tilt at contact end [rad]."""
+    starts: jax.Array
+    """(K, 5) log of contact starts, one row per contact: time [s], centre of mass (x, y, z) [m],
+    tilt [rad]; NaN where not reached. Read it through ``t_start``, ``x_start``, ``tilt_start``."""
+    ends: jax.Array
+    """(K, 2) log of contact ends: time [s], tilt [rad]; NaN where not ended. Read it through
+    ``t_end``, ``tilt_end``."""
     contact_steps: jax.Array
     """() int: steps taken in the water (cost accounting)."""
+
+    # One log row per event keeps the step to two small updates (one kernel each) instead of five.
+    @property
+    def t_start(self) -> jax.Array:
+        """(..., K) contact start times [s] (NaN: not reached)."""
+        return self.starts[..., 0]
+
+    @property
+    def x_start(self) -> jax.Array:
+        """(..., K, 3) centre of mass at contact start [m]."""
+        return self.starts[..., 1:4]
+
+    @property
+    def tilt_start(self) -> jax.Array:
+        """(..., K) tilt at contact start [rad]."""
+        return self.starts[..., 4]
+
+    @property
+    def t_end(self) -> jax.Array:
+        """(..., K) contact end times [s] (NaN: not ended)."""
+        return self.ends[..., 0]
+
+    @property
+    def tilt_end(self) -> jax.Array:
+        """(..., K) tilt at contact end [rad]."""
+        return self.ends[..., 1]
 
 
 @jax.tree_util.register_dataclass
@@ -218,12 +241,11 @@ def initial_state(throw: Throw, stone: RigidStone) -> StoneState:
 
 
 def _new_tracker(k: int, dtype) -> Tracker:
-    nan = jnp.full((k,), jnp.nan, dtype)
     i0 = jnp.asarray(0, jnp.int32)
     return Tracker(
         alive=jnp.asarray(True), outcome=i0, phase=i0, bounces=i0, contacts=i0,
         t_leave=jnp.asarray(jnp.nan, dtype), tilt_leave=jnp.asarray(jnp.nan, dtype),
-        t_start=nan, t_end=nan, x_start=jnp.full((k, 3), jnp.nan, dtype), tilt_start=nan, tilt_end=nan,
+        starts=jnp.full((k, 5), jnp.nan, dtype), ends=jnp.full((k, 2), jnp.nan, dtype),
         contact_steps=i0,
     )
 
@@ -405,11 +427,8 @@ def make_step(config: SimConfig, surface=_flat, push: bool = False):
             contacts=tr.contacts + begin.astype(jnp.int32),
             t_leave=jnp.where(leave, t, tr.t_leave),
             tilt_leave=jnp.where(leave, tilt, tr.tilt_leave),
-            t_start=_log(tr.t_start, idx_new, log_new, t),
-            t_end=_log(tr.t_end, idx_cur, log_end, tr.t_leave),
-            x_start=_log(tr.x_start, idx_new, log_new, state.position),
-            tilt_start=_log(tr.tilt_start, idx_new, log_new, tilt),
-            tilt_end=_log(tr.tilt_end, idx_cur, log_end, tr.tilt_leave),
+            starts=_log(tr.starts, idx_new, log_new, jnp.concatenate([t[None], state.position, tilt[None]])),
+            ends=_log(tr.ends, idx_cur, log_end, jnp.stack([tr.t_leave, tr.tilt_leave])),
             contact_steps=tr.contact_steps + (alive & wet).astype(jnp.int32),
         )
 
@@ -448,6 +467,30 @@ def _frozen_records(carry, n: int):
     return jax.tree_util.tree_map(lambda a: jnp.broadcast_to(a, (n,) + a.shape), rec)
 
 
+def _record_packing():
+    """``(pack, unpack)``: a step's record as one flat row, and the stacked rows back as records.
+
+    The scan then writes one (W,) row per step instead of one small array per record field
+    (fewer update kernels per step). ``pack`` learns the record's structure when it is traced.
+    """
+    layout = {}
+
+    def pack(rec):
+        leaves, treedef = jax.tree_util.tree_flatten(rec)
+        layout["treedef"], layout["shapes"] = treedef, [jnp.shape(a) for a in leaves]
+        return jnp.concatenate([jnp.ravel(a) for a in leaves])
+
+    def unpack(rows):
+        lead, out, i = rows.shape[:-1], [], 0
+        for shape in layout["shapes"]:
+            size = math.prod(shape)
+            out.append(rows[..., i:i + size].reshape(lead + shape))
+            i += size
+        return jax.tree_util.tree_unflatten(layout["treedef"], out)
+
+    return pack, unpack
+
+
 def _scan(config: SimConfig, step, carry, stone, water):
     """Run ``config.max_steps`` steps in segments of ``config.segment``; skip dead segments.
 
@@ -455,7 +498,12 @@ def _scan(config: SimConfig, step, carry, stone, water):
     records (``lax.cond``: a real branch for one throw, both branches and a
     select under ``vmap``), so neither pass pays for steps after the end.
     """
-    body = lambda c, _: step(c, stone, water)
+    pack, unpack = _record_packing()
+
+    def body(c, _):
+        c, rec = step(c, stone, water)
+        return c, (pack(rec) if config.record else None)
+
     if config.checkpoint:
         body = jax.checkpoint(body)
 
@@ -464,7 +512,10 @@ def _scan(config: SimConfig, step, carry, stone, water):
             return jax.lax.scan(body, c, None, length=n)
 
         def dead(c):
-            return c, (_frozen_records(c, n) if config.record else None)
+            if not config.record:
+                return c, None
+            row = pack(_frozen_record(c[0]))
+            return c, jnp.broadcast_to(row, (n,) + row.shape)
 
         run = lambda c, _: jax.lax.cond(c[1].alive, live, dead, c)
         return jax.checkpoint(run) if config.checkpoint else run
@@ -473,12 +524,12 @@ def _scan(config: SimConfig, step, carry, stone, water):
     full, rest = divmod(config.max_steps, k)
     carry, recs = jax.lax.scan(segment(k), carry, None, length=full)
     if config.record:
-        recs = jax.tree_util.tree_map(lambda r: r.reshape((-1,) + r.shape[2:]), recs)
+        recs = recs.reshape((-1,) + recs.shape[2:])
     if rest:
         carry, tail = segment(rest)(carry, None)
         if config.record:
-            recs = jax.tree_util.tree_map(lambda a, b: jnp.concatenate([a, b]), recs, tail)
-    return carry, recs
+            recs = jnp.concatenate([recs, tail])
+    return carry, (unpack(recs) if config.record else None)
 
 
 def rollout(config: SimConfig, throw: Throw, stone: RigidStone, water: WaterParams, surface=_flat):
