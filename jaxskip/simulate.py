@@ -300,7 +300,8 @@ def free_rotation(q, L, stone: RigidStone, h, substeps: int = 2):
     Evaluated on scalar components (:func:`_free_rotation_scalar`: a few fused kernels on
     XLA:CPU); differentiated through the same algebra on small vectors
     (:func:`_free_rotation_vector`), whose reverse pass XLA compiles well, while the scalar
-    form's reverse pass is pathologically slow there (seconds per step).
+    form's reverse pass is pathologically slow there (a 200-step gradient of a throw took
+    10.6 s instead of 11 ms).
     """
     return _free_rotation_scalar(q, L, stone, h, substeps)
 
@@ -541,12 +542,6 @@ def _frozen_record(state: StoneState) -> Record:
     """The record of a step taken out of play: the state repeats, no water force."""
     zero = 0.0 * state.time
     return Record(state.time, state.position, state.orientation, zero, jnp.zeros(3) * zero, zero)
-
-
-def _frozen_records(carry, n: int):
-    """``n`` records of a stone out of play (what ``frozen_step`` writes), without stepping."""
-    rec = _frozen_record(carry[0])
-    return jax.tree_util.tree_map(lambda a: jnp.broadcast_to(a, (n,) + a.shape), rec)
 
 
 def _record_packing():
