@@ -10,7 +10,8 @@
 # Source: C. Clanet, F. Hersen, L. Bocquet, *Secrets of successful stone-skipping*, Nature 427:29
 # (2004); `shared/physics.md` §4. Their aluminium disk (R = 2.5 cm, 2.75 mm), a catapult at
 # 65 rev/s, impact angle β = 20°: (a) the minimal speed for a bounce against tilt, lowest near
-# 20° (≈ 2.5 m/s there), none beyond ≈ 45°; (b) the bounce domain in the (tilt, attack) plane at
+# 20° (≈ 2.5 m/s there), none beyond ≈ 45° (the minimum located between grid points by a finer
+# sweep and a parabola through its lowest points); (b) the bounce domain in the (tilt, attack) plane at
 # 3.5 m/s; (c) the contact time against tilt, shortest near 20°. The sweeps are `optimize.sweep`
 # (batched bisection, the same code as `jaxskip sweep`). Compared: Bocquet's law with the tilt
 # held (the library's reference), the free 6-DoF body at 65 rev/s, and the seed paper's law.
@@ -40,14 +41,26 @@ iterations = 5 if QUICK else 8
 # ## (a) U_min(tilt) at β = 20°
 
 # %%
-umin = {}
+umin, coarse = {}, {}
 for attitude in ("fixed", "free"):
     r = run_sweep(make_spec("umin", tilts=tilts, attacks=(20.0,), speed_range=(0.5, 8.0), iterations=iterations,
                             attitude=attitude))
-    umin[attitude] = np.array([np.nan if u is None else u for u in r["umin"]], float)
+    umin[attitude], coarse[attitude] = np.array([np.nan if u is None else u for u in r["umin"]], float), r
     print(f"{attitude:<5} (Bocquet law): U_min = " + ", ".join(f"{t:g}°: {u:.2f}" for t, u in zip(tilts,
                                                                                                umin[attitude]))
           + f" m/s; lowest at {r['best_tilt']:g}° ({r['best_umin']:.2f} m/s)")
+
+# The magic angle between grid points (tilt held): a finer sweep around the coarse minimum, and the
+# vertex of the parabola through its lowest point and that point's neighbours.
+step = 2.0 if QUICK else 1.0
+fine_tilts = tuple(coarse["fixed"]["best_tilt"] + step * np.arange(-4, 5))
+fine = run_sweep(make_spec("umin", tilts=fine_tilts, attacks=(20.0,), speed_range=(0.5, 8.0),
+                           iterations=8 if QUICK else 12, attitude="fixed"))
+if fine["best_tilt_fit"] is None:  # the finer sweep's lowest point at its edge: report the grid point
+    fine["best_tilt_fit"], fine["best_umin_fit"] = fine["best_tilt"], fine["best_umin"]
+print(f"fixed, every {step:g}° from {fine_tilts[0]:g}° to {fine_tilts[-1]:g}°: lowest at {fine['best_tilt']:g}° "
+      f"({fine['best_umin']:.3f} m/s); between grid points {fine['best_tilt_fit']:.1f}° "
+      f"({fine['best_umin_fit']:.3f} m/s; Clanet ≈ 20°, ≈ 2.5 m/s)")
 
 # The seed paper's law, tilt held: the lowest speed of a grid that bounces.
 disk = rigid_stone(clanet_disk(), density=2700.0)
@@ -81,6 +94,8 @@ fig, ax = plt.subplots(1, 3, figsize=(16, 4.2))
 ax[0].plot(tilts, umin["fixed"], "o-", label="Bocquet law, tilt held")
 ax[0].plot(tilts, umin["free"], "s--", label="Bocquet law, free body at 65 rev/s")
 ax[0].plot(tilts, umin["seed"], "^:", label="seed law, tilt held")
+ax[0].plot([fine["best_tilt_fit"]], [fine["best_umin_fit"]], "*", color="C3", ms=10,
+           label=f"minimum, tilt held: {fine['best_tilt_fit']:.1f}°, {fine['best_umin_fit']:.2f} m/s")
 ax[0].axhline(2.5, color="0.6", ls="--", lw=0.8, label="Clanet ≈ 2.5 m/s")
 ax[0].axvline(45.0, color="0.8", lw=0.8)
 ax[0].set(xlabel="tilt [deg]", ylabel="U_min [m/s]", title="(a) minimal speed for a bounce, β = 20°")

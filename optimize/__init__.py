@@ -9,8 +9,8 @@
 from .bounds import HUMAN_BOX, Box, check_interval, make_box
 from .objectives import distance, make_objective, soft_bounce_count
 from .search import SearchResult, gradient_search, grid_search, perturbation_search, plot_search, random_search
-from .sweep import SweepSpec, make_spec, merge, plot_sweep, run_sweep
+from .sweep import SweepSpec, make_spec, merge, parabola_minimum, plot_sweep, run_sweep
 
 __all__ = ["HUMAN_BOX", "Box", "SearchResult", "SweepSpec", "check_interval", "distance", "gradient_search",
-           "grid_search", "make_box", "make_objective", "make_spec", "merge", "perturbation_search", "plot_search",
+           "grid_search", "make_box", "make_objective", "make_spec", "merge", "parabola_minimum", "perturbation_search", "plot_search",
            "plot_sweep", "random_search", "run_sweep", "soft_bounce_count"]

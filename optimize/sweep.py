@@ -15,6 +15,9 @@ their reference spin, impact angle :math:`\beta = 20°` and speed 3.5 m/s.
   faster (true of the fixed-attitude model over the range swept; checked by the
   result's ``bounces_at_high``). The answer is bracketed to
   ``(high - low) / 2**iterations``.
+* :func:`parabola_minimum` — the magic angle between grid points: the vertex
+  of the parabola through the lowest :math:`U_{min}` and its two neighbours
+  (``best_tilt_fit``, ``best_umin_fit`` in a U_min sweep's result).
 
 Scale: the work is cut into chunks; each finished chunk is written atomically
 (temporary file + ``os.replace``) to ``out_dir/chunk-NNNNN.json`` and a re-run
@@ -224,8 +227,51 @@ def _check_spec_file(out: Path, spec: SweepSpec) -> None:
         _write_atomic(path, text)
 
 
+def parabola_minimum(x, y):
+    r"""Minimum of sampled values between the samples: ``(x*, y*)`` or ``(None, None)``.
+
+    ``x`` (N,) sample positions (any order, e.g. tilts [deg]); ``y`` (N,) values (``None``
+    where missing, e.g. no bounce). Takes the lowest sample and its neighbours in ``x`` and
+    returns the vertex of the parabola through the three points,
+
+    .. math:: x^* = x_1 - \frac12\,\frac{(x_1-x_0)^2 (y_1-y_2) - (x_1-x_2)^2 (y_1-y_0)}
+                                     {(x_1-x_0)(y_1-y_2) - (x_1-x_2)(y_1-y_0)},
+
+    which lies between the neighbours and is exact for a quadratic. ``(None, None)`` when the
+    lowest sample is at either end of the samples or next to a missing value (the minimum may
+    lie outside: widen the sweep). Of equal lowest samples the first counts.
+
+    Examples
+    --------
+    >>> x, y = parabola_minimum([10.0, 12.0, 15.0, 20.0], [(t - 13.0) ** 2 + 1.0 for t in (10, 12, 15, 20)])
+    >>> round(x, 12), round(y, 12)
+    (13.0, 1.0)
+    """
+    pts = sorted(zip(x, y), key=lambda p: p[0])
+    finite = [i for i, (_, v) in enumerate(pts) if v is not None]
+    if not finite:
+        return None, None
+    i = min(finite, key=lambda j: pts[j][1])
+    if i == 0 or i == len(pts) - 1 or pts[i - 1][1] is None or pts[i + 1][1] is None:
+        return None, None
+    (x0, y0), (x1, y1), (x2, y2) = pts[i - 1], pts[i], pts[i + 1]
+    den = (x1 - x0) * (y1 - y2) - (x1 - x2) * (y1 - y0)   # < 0: the first lowest sample is below its left
+    xs = x1 - 0.5 * ((x1 - x0) ** 2 * (y1 - y2) - (x1 - x2) ** 2 * (y1 - y0)) / den
+    # Lagrange form of the same parabola, evaluated at its vertex.
+    ys = (y0 * (xs - x1) * (xs - x2) / ((x0 - x1) * (x0 - x2))
+          + y1 * (xs - x0) * (xs - x2) / ((x1 - x0) * (x1 - x2))
+          + y2 * (xs - x0) * (xs - x1) / ((x2 - x0) * (x2 - x1)))
+    return float(xs), float(ys)
+
+
 def assemble(spec: SweepSpec, chunks: list[dict]) -> dict:
-    """Join chunk results (in chunk order) into the sweep's result dictionary."""
+    """Join chunk results (in chunk order) into the sweep's result dictionary.
+
+    A U_min sweep's result: ``umin`` per tilt [m/s] (None: no bounce up to the bracket's top),
+    ``best_tilt`` [deg] / ``best_umin`` [m/s] the lowest grid point, ``best_tilt_fit`` /
+    ``best_umin_fit`` the minimum between grid points (:func:`parabola_minimum`; None at the
+    sweep's edge), ``resolution`` the bisection's bracket [m/s].
+    """
     def cat(key):
         return [v for c in chunks for v in c[key]]
 
@@ -238,8 +284,9 @@ def assemble(spec: SweepSpec, chunks: list[dict]) -> dict:
         umin = cat("umin")
         finite = [(u, t) for u, t in zip(umin, spec.tilts) if u is not None]
         best = min(finite) if finite else (None, None)
+        fit = parabola_minimum(spec.tilts, umin)
         result.update(umin=umin, bounces_at_high=cat("bounces_at_high"), bounces_at_low=cat("bounces_at_low"),
-                      best_tilt=best[1], best_umin=best[0],
+                      best_tilt=best[1], best_umin=best[0], best_tilt_fit=fit[0], best_umin_fit=fit[1],
                       resolution=(spec.speed_range[1] - spec.speed_range[0]) / 2**spec.iterations)
     return result
 
@@ -322,6 +369,9 @@ def plot_sweep(result: dict, path) -> None:
         if result["best_tilt"] is not None:
             ax.axvline(result["best_tilt"], color="C3", lw=0.8, ls="--",
                        label=f"min {result['best_umin']:.2f} m/s at {result['best_tilt']:g}°")
+        if result.get("best_tilt_fit") is not None:
+            ax.plot([result["best_tilt_fit"]], [result["best_umin_fit"]], "*", color="C3", ms=9,
+                    label=f"between grid points: {result['best_tilt_fit']:.1f}°")
         ax.set_xlabel("tilt α [deg]")
         ax.set_ylabel("minimal speed for a bounce U_min [m/s]")
         ax.set_title(f"U_min(α) at β = {spec['attacks'][0]:g}°, {spec['spin']:g} rev/s")

@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 from jaxskip import ParameterError
-from optimize import make_spec, merge, run_sweep
+from optimize import make_spec, merge, parabola_minimum, run_sweep
 
 ROOT = Path(__file__).resolve().parent.parent
 
@@ -28,6 +28,24 @@ def test_umin_has_a_magic_angle():
     assert u[3] is None and r["bounces_at_high"][3] == 0
     assert r["best_tilt"] == 20.0 and abs(r["best_umin"] - 2.5) < 0.3 * 2.5
     assert u[0] > u[1] and u[2] > u[1]
+    assert 5.0 < r["best_tilt_fit"] < 40.0 and r["best_umin_fit"] <= r["best_umin"] + 1e-12
+
+
+def test_parabola_minimum_finds_the_vertex_between_grid_points():
+    """Exact for a quadratic on an uneven grid, in any order; refuses a minimum at the edge."""
+    x = np.array([20.0, 8.0, 11.0, 14.0, 16.5])
+    y = 0.004 * (x - 12.3) ** 2 + 1.76
+    xs, ys = parabola_minimum(x, list(y))
+    assert abs(xs - 12.3) < 1e-9 and abs(ys - 1.76) < 1e-12
+    # A cubic term moves the vertex, but it stays between the lowest point's neighbours.
+    y3 = y + 1e-4 * (x - 12.3) ** 3
+    xs3, _ = parabola_minimum(x, list(y3))
+    assert 11.0 < xs3 < 14.0 and abs(xs3 - 12.3) > 1e-3
+    assert parabola_minimum([5.0, 10.0, 15.0], [1.0, 2.0, 3.0]) == (None, None)    # lowest at the edge
+    assert parabola_minimum([5.0, 10.0, 15.0], [None, 1.0, 2.0]) == (None, None)   # neighbour missing
+    assert parabola_minimum([5.0, 10.0, 15.0], [None, None, None]) == (None, None)
+    assert parabola_minimum([5.0, 10.0, 15.0], [1.0, 1.0, 1.0]) == (None, None)    # level: the first is lowest
+    assert parabola_minimum([5.0, 10.0, 15.0, 20.0], [2.0, 1.0, 1.0, 2.0])[0] == 12.5  # a flat bottom: its middle
 
 
 def test_interrupted_sweep_resumes_to_the_same_file(tmp_path):
