@@ -192,7 +192,7 @@ def run_sweep_command(args) -> int:
         if result["best_tilt"] is not None:
             print(f"magic angle: {result['best_tilt']:g} deg, U_min {result['best_umin']:.2f} m/s "
                   f"(+- {result['resolution']:.2g} m/s)")
-            if result.get("best_tilt_fit") is not None:
+            if result["best_tilt_fit"] is not None:
                 print(f"  between grid points (parabola through its neighbours): {result['best_tilt_fit']:.1f} deg, "
                       f"U_min {result['best_umin_fit']:.2f} m/s")
     else:

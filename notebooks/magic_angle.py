@@ -10,8 +10,8 @@
 # Source: C. Clanet, F. Hersen, L. Bocquet, *Secrets of successful stone-skipping*, Nature 427:29
 # (2004); `shared/physics.md` §4. Their aluminium disk (R = 2.5 cm, 2.75 mm), a catapult at
 # 65 rev/s, impact angle β = 20°: (a) the minimal speed for a bounce against tilt, lowest near
-# 20° (≈ 2.5 m/s there), none beyond ≈ 45° (the minimum located between grid points by a finer
-# sweep and a parabola through its lowest points); (b) the bounce domain in the (tilt, attack) plane at
+# 20° (≈ 2.5 m/s there), none beyond ≈ 45° (here the model's minimum is also located between
+# grid points, by a finer sweep and a parabola); (b) the bounce domain in the (tilt, attack) plane at
 # 3.5 m/s; (c) the contact time against tilt, shortest near 20°. The sweeps are `optimize.sweep`
 # (batched bisection, the same code as `jaxskip sweep`). Compared: Bocquet's law with the tilt
 # held (the library's reference), the free 6-DoF body at 65 rev/s, and the seed paper's law.
@@ -41,11 +41,13 @@ iterations = 5 if QUICK else 8
 # ## (a) U_min(tilt) at β = 20°
 
 # %%
-umin, coarse = {}, {}
+umin = {}
 for attitude in ("fixed", "free"):
     r = run_sweep(make_spec("umin", tilts=tilts, attacks=(20.0,), speed_range=(0.5, 8.0), iterations=iterations,
                             attitude=attitude))
-    umin[attitude], coarse[attitude] = np.array([np.nan if u is None else u for u in r["umin"]], float), r
+    umin[attitude] = np.array([np.nan if u is None else u for u in r["umin"]], float)
+    if attitude == "fixed":
+        coarse = r
     print(f"{attitude:<5} (Bocquet law): U_min = " + ", ".join(f"{t:g}°: {u:.2f}" for t, u in zip(tilts,
                                                                                                umin[attitude]))
           + f" m/s; lowest at {r['best_tilt']:g}° ({r['best_umin']:.2f} m/s)")
@@ -53,7 +55,7 @@ for attitude in ("fixed", "free"):
 # The magic angle between grid points (tilt held): a finer sweep around the coarse minimum, and the
 # vertex of the parabola through its lowest point and that point's neighbours.
 step = 2.0 if QUICK else 1.0
-fine_tilts = tuple(coarse["fixed"]["best_tilt"] + step * np.arange(-4, 5))
+fine_tilts = tuple(coarse["best_tilt"] + step * np.arange(-4, 5))
 fine = run_sweep(make_spec("umin", tilts=fine_tilts, attacks=(20.0,), speed_range=(0.5, 8.0),
                            iterations=8 if QUICK else 12, attitude="fixed"))
 if fine["best_tilt_fit"] is None:  # the finer sweep's lowest point at its edge: report the grid point

@@ -12,5 +12,5 @@ from .search import SearchResult, gradient_search, grid_search, perturbation_sea
 from .sweep import SweepSpec, make_spec, merge, parabola_minimum, plot_sweep, run_sweep
 
 __all__ = ["HUMAN_BOX", "Box", "SearchResult", "SweepSpec", "check_interval", "distance", "gradient_search",
-           "grid_search", "make_box", "make_objective", "make_spec", "merge", "parabola_minimum", "perturbation_search", "plot_search",
-           "plot_sweep", "random_search", "run_sweep", "soft_bounce_count"]
+           "grid_search", "make_box", "make_objective", "make_spec", "merge", "parabola_minimum",
+           "perturbation_search", "plot_search", "plot_sweep", "random_search", "run_sweep", "soft_bounce_count"]
