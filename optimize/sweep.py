@@ -230,8 +230,8 @@ def _check_spec_file(out: Path, spec: SweepSpec) -> None:
 def parabola_minimum(x, y):
     r"""Minimum of sampled values between the samples: ``(x*, y*)`` or ``(None, None)``.
 
-    ``x`` (N,) sample positions (any order, e.g. tilts [deg]); ``y`` (N,) values (``None``
-    where missing, e.g. no bounce). Takes the lowest sample and its neighbours in ``x`` and
+    ``x`` (N,) sample positions (any order, e.g. tilts [deg]); ``y`` (N,) values (``None`` or
+    NaN where missing, e.g. no bounce). Takes the lowest sample and its neighbours in ``x`` and
     returns the vertex of the parabola through the three points,
 
     .. math:: x^* = x_1 - \frac12\,\frac{(x_1-x_0)^2 (y_1-y_2) - (x_1-x_2)^2 (y_1-y_0)}
@@ -247,7 +247,11 @@ def parabola_minimum(x, y):
     >>> round(x, 12), round(y, 12)
     (13.0, 1.0)
     """
-    pts = sorted(zip(x, y), key=lambda p: p[0])
+    x, y = list(x), list(y)
+    if len(x) != len(y):
+        raise ParameterError(f"parabola_minimum: x and y must have the same length, got {len(x)} and {len(y)}")
+    pts = sorted(((float(a), None if b is None or not math.isfinite(b) else float(b)) for a, b in zip(x, y)),
+                 key=lambda p: p[0])
     finite = [i for i, (_, v) in enumerate(pts) if v is not None]
     if not finite:
         return None, None
