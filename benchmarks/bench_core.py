@@ -620,6 +620,29 @@ def section_gradient(dtype, p):
              f"ratio {r['ratio']:.1f}x; scratch fwd {mb(r['fwd_temp_bytes'])}, grad {mb(r['grad_temp_bytes'])}")
         _log(f"    x_final {r['x_final']:.4f} m, d x/d(speed, tilt, attack, spin) = "
              f"{np.array2string(np.array(r['grad']), precision=3)}")
+    # Forward mode: four throw parameters, so jacfwd (one primal pass carrying 4 tangents) is the
+    # other way to the same gradient; measured at the default config (checkpointing is irrelevant).
+    config = SimConfig(max_steps=p["grad_steps"])
+
+    def distance_vec(u):
+        t = Throw(u[0], u[1], u[2], u[3], throw.height, throw.heading)
+        return rollout(config, t, stone, water)[0].position[0]
+
+    u0 = jax.numpy.stack(args)
+    fwd_c, fl, fx = _compile(jax, distance_vec, u0)
+    jf_c, jl, jx = _compile(jax, jax.jacfwd(distance_vec), u0)
+    f_times, _ = _time_runs(jax, fwd_c, (u0,), max(5, p["grad_repeats"]))
+    j_times, jg = _time_runs(jax, jf_c, (u0,), p["grad_repeats"])
+    out["jacfwd"] = {"max_steps": p["grad_steps"], "fwd_run_s": _median(f_times), "jacfwd_run_s": _median(j_times),
+                     "jacfwd_compile_s": jl + jx, "grad": [float(v) for v in jg]}
+    # The ratio against the fastest forward of the section (the same function compiled twice can time
+    # differently on a noisy machine; the smaller denominator is the conservative ratio).
+    jr = out["jacfwd"]
+    fwd_best = min([jr["fwd_run_s"]] + [c["fwd_run_s"] for c in out["configs"].values()])
+    jr["ratio"] = jr["jacfwd_run_s"] / fwd_best
+    _log(f"  forward mode (jax.jacfwd over the 4 throw parameters): {jr['jacfwd_run_s'] * 1e3:.0f} ms "
+         f"(compile {jr['jacfwd_compile_s']:.1f} s), {jr['ratio']:.1f}x the fastest forward ({fwd_best * 1e3:.0f} ms; "
+         f"its own {jr['fwd_run_s'] * 1e3:.0f} ms); gradient {np.array2string(np.array(jr['grad']), precision=3)}")
     return out
 
 
@@ -901,6 +924,10 @@ def summarise(res):
             mb = None if r["grad_temp_bytes"] is None else r["grad_temp_bytes"] / 1e6
             add(f"grad scratch memory, checkpoint={k} [{dt}]", mb, "MB", 50.0 if k else None,
                 "<= 50 MB" if k else "(reference)")
+        jr = gd.get("jacfwd")
+        if jr:
+            add(f"grad/forward time, forward mode (jacfwd) [{dt}]", jr["ratio"], "x", 3.0, "<= 3x",
+                note=f"jacfwd {jr['jacfwd_run_s'] * 1e3:.0f} ms, against the section's fastest forward")
         for n, r in gd.get("short", {}).items():
             mb = None if r["grad_temp_bytes"] is None else r["grad_temp_bytes"] / 1e6
             add(f"grad/forward time, max_steps={n}, checkpoint=0 [{dt}]", r["ratio"], "x", 3.0, "<= 3x",
