@@ -239,7 +239,8 @@ def parabola_minimum(x, y):
 
     which lies between the neighbours and is exact for a quadratic. ``(None, None)`` when the
     lowest sample is at either end of the samples or next to a missing value (the minimum may
-    lie outside: widen the sweep). Of equal lowest samples the first counts.
+    lie outside: widen the sweep). Of equal lowest samples the first counts; of samples at the
+    same position, the first.
 
     Examples
     --------
@@ -252,6 +253,7 @@ def parabola_minimum(x, y):
         raise ParameterError(f"parabola_minimum: x and y must have the same length, got {len(x)} and {len(y)}")
     pts = sorted(((float(a), None if b is None or not math.isfinite(b) else float(b)) for a, b in zip(x, y)),
                  key=lambda p: p[0])
+    pts = [p for k, p in enumerate(pts) if k == 0 or p[0] != pts[k - 1][0]]  # a repeated position: its first
     finite = [i for i, (_, v) in enumerate(pts) if v is not None]
     if not finite:
         return None, None

@@ -48,6 +48,7 @@ def test_parabola_minimum_finds_the_vertex_between_grid_points():
     assert parabola_minimum([5.0, 10.0, 15.0], [1.0, 1.0, 1.0]) == (None, None)    # level: the first is lowest
     assert parabola_minimum([5.0, 10.0, 15.0, 20.0], [2.0, 1.0, 1.0, 2.0])[0] == 12.5  # a flat bottom: its middle
     assert parabola_minimum([5.0, 10.0, 15.0], [np.nan, 1.0, 2.0]) == (None, None)  # NaN counts as missing
+    assert np.allclose(parabola_minimum([5.0, 10.0, 10.0, 20.0], [2.0, 1.0, 1.0, 2.0]), (12.5, 0.875))  # repeated tilt
     with pytest.raises(ParameterError, match="same length"):
         parabola_minimum([5.0, 10.0, 15.0], [1.0, 2.0])
 
