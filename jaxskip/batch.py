@@ -30,7 +30,7 @@ import numpy as np
 from ._checks import ParameterError, check_int
 from .api import resolve_stone
 from .forces import WaterParams, water_params
-from .simulate import OUTCOMES, STEP_LIMIT, SimConfig, StoneState, Tracker, _new_tracker, _scan, initial_state, make_step
+from .simulate import OUTCOMES, SimConfig, StoneState, Tracker, _new_tracker, _scan, initial_state, make_step
 from .throw import Throw
 
 
@@ -212,8 +212,8 @@ def simulate_batch(
     if progress:
         print(file=sys.stderr)
 
-    outcome = np.where(final_tracker.alive, STEP_LIMIT, final_tracker.outcome).astype(np.int32)
-    final_tracker = dataclasses.replace(final_tracker, outcome=outcome)
+    final_tracker = final_tracker.finish()
+    outcome = final_tracker.outcome
     release = np.asarray(jax.vmap(lambda t: initial_state(t, rigid).position)(throws))
     distance = np.hypot(*(final_state.position[:, :2] - release[:, :2]).T)
     return BatchResult(

@@ -52,7 +52,7 @@ import jax.numpy as jnp
 
 from .body import RigidStone
 from .forces import WaterParams
-from .simulate import STEP_LIMIT, SimConfig, _new_tracker, _scan, initial_state, make_step
+from .simulate import SimConfig, _new_tracker, _scan, initial_state, make_step
 from ._checks import check_int, check_range
 from .throw import Throw
 from .water import WaterGrid, WaterState, deposit, height_at, make_water_step, still_water
@@ -209,8 +209,7 @@ def rollout_coupled(config: SimConfig, grid: WaterGrid, throw: Throw, stone: Rig
     carry = (state, _new_tracker(config.max_contacts, state.position.dtype), initial_field(grid, state.position))
     step = make_coupled_step(config, grid, water_dt, two_way)
     (state, tr, field), recs = _scan(config, step, carry, stone, water)
-    tr = dataclasses.replace(tr, outcome=jnp.where(tr.alive, STEP_LIMIT, tr.outcome).astype(jnp.int32))
-    return state, tr, (recs if config.record else None), field
+    return state, tr.finish(), (recs if config.record else None), field
 
 
 __all__ = ["Field", "default_water_dt", "default_window", "initial_field", "make_coupled_step", "recentre", "rollout_coupled"]

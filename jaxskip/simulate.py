@@ -44,6 +44,7 @@ import math
 
 import jax
 import jax.numpy as jnp
+import numpy as np
 
 from . import quaternion as quat
 from ._checks import check_choice, check_int, check_positive, check_range
@@ -137,59 +138,120 @@ class StoneState:
     """() simulated time [s]."""
 
 
+# Columns of ``Tracker.counters``.
+_ALIVE, _OUTCOME, _PHASE, _BOUNCES, _CONTACTS, _CONTACT_STEPS = range(6)
+
+
 @jax.tree_util.register_dataclass
 @dataclasses.dataclass(frozen=True)
 class Tracker:
-    """What a rollout observes about contacts, carried through the scan. K = ``max_contacts``."""
+    """What a rollout observes about contacts, carried through the scan. K = ``max_contacts``.
 
-    alive: jax.Array
-    """() bool: the stone is still in play."""
-    outcome: jax.Array
-    """() int: index into :data:`OUTCOMES` (0 while running)."""
-    phase: jax.Array
-    """() int: 0 in the air, 1 in the water, 2 just left the water (bounce not yet confirmed)."""
-    bounces: jax.Array
-    """() int: contacts that ended with the stone leaving the water."""
-    contacts: jax.Array
-    """() int: contacts begun."""
-    t_leave: jax.Array
-    """() time the current contact lost its last wet triangle [s]."""
-    tilt_leave: jax.Array
-    """() tilt at ``t_leave`` [rad]."""
-    starts: jax.Array
-    """(K, 5) log of contact starts, one row per contact: time [s], centre of mass (x, y, z) [m],
-    tilt [rad]; NaN where not reached. Read it through ``t_start``, ``x_start``, ``tilt_start``."""
-    ends: jax.Array
-    """(K, 2) log of contact ends: time [s], tilt [rad]; NaN where not ended. Read it through
-    ``t_end``, ``tilt_end``."""
-    contact_steps: jax.Array
-    """() int: steps taken in the water (cost accounting)."""
+    Three arrays, so that a step updates three buffers instead of eleven (on the CPU each
+    update is a kernel of its own); read them through the properties below. Leading batch
+    axes, if any, come first in every array and every property.
+    """
 
-    # One log row per event keeps the step to two small updates (one kernel each) instead of five.
+    counters: jax.Array
+    """(6,) int32: alive (0/1), outcome, phase, bounces, contacts, contact steps (see the
+    properties of the same names)."""
+    leave: jax.Array
+    """(2,) time [s] and tilt [rad] at which the current contact lost its last wet triangle
+    (NaN before the first); see ``t_leave``, ``tilt_leave``."""
+    log: jax.Array
+    """(K, 7) contact log, one row per contact: start time [s], centre of mass at the start
+    (x, y, z) [m], tilt at the start [rad], end time [s], tilt at the end [rad]; NaN where not
+    reached. Read it through ``t_start``, ``x_start``, ``tilt_start``, ``t_end``, ``tilt_end``."""
+
+    @property
+    def alive(self) -> jax.Array:
+        """(...) bool: the stone is still in play."""
+        return self.counters[..., _ALIVE] > 0
+
+    @property
+    def outcome(self) -> jax.Array:
+        """(...) int: index into :data:`OUTCOMES` (0 while running)."""
+        return self.counters[..., _OUTCOME]
+
+    @property
+    def phase(self) -> jax.Array:
+        """(...) int: 0 in the air, 1 in the water, 2 just left the water (bounce not yet confirmed)."""
+        return self.counters[..., _PHASE]
+
+    @property
+    def bounces(self) -> jax.Array:
+        """(...) int: contacts that ended with the stone leaving the water."""
+        return self.counters[..., _BOUNCES]
+
+    @property
+    def contacts(self) -> jax.Array:
+        """(...) int: contacts begun."""
+        return self.counters[..., _CONTACTS]
+
+    @property
+    def contact_steps(self) -> jax.Array:
+        """(...) int: steps taken in the water (cost accounting)."""
+        return self.counters[..., _CONTACT_STEPS]
+
+    @property
+    def t_leave(self) -> jax.Array:
+        """(...) time the current contact lost its last wet triangle [s]."""
+        return self.leave[..., 0]
+
+    @property
+    def tilt_leave(self) -> jax.Array:
+        """(...) tilt at ``t_leave`` [rad]."""
+        return self.leave[..., 1]
+
+    @property
+    def starts(self) -> jax.Array:
+        """(..., K, 5) contact starts: time [s], centre of mass (x, y, z) [m], tilt [rad]."""
+        return self.log[..., 0:5]
+
+    @property
+    def ends(self) -> jax.Array:
+        """(..., K, 2) contact ends: time [s], tilt [rad]."""
+        return self.log[..., 5:7]
+
     @property
     def t_start(self) -> jax.Array:
         """(..., K) contact start times [s] (NaN: not reached)."""
-        return self.starts[..., 0]
+        return self.log[..., 0]
 
     @property
     def x_start(self) -> jax.Array:
         """(..., K, 3) centre of mass at contact start [m]."""
-        return self.starts[..., 1:4]
+        return self.log[..., 1:4]
 
     @property
     def tilt_start(self) -> jax.Array:
         """(..., K) tilt at contact start [rad]."""
-        return self.starts[..., 4]
+        return self.log[..., 4]
 
     @property
     def t_end(self) -> jax.Array:
         """(..., K) contact end times [s] (NaN: not ended)."""
-        return self.ends[..., 0]
+        return self.log[..., 5]
 
     @property
     def tilt_end(self) -> jax.Array:
         """(..., K) tilt at contact end [rad]."""
-        return self.ends[..., 1]
+        return self.log[..., 6]
+
+    def finish(self) -> "Tracker":
+        """The tracker at the end of a rollout: a stone still in play gets outcome ``step_limit``.
+
+        Works on JAX and NumPy arrays alike (any leading batch axes).
+        """
+        xp = np if isinstance(self.counters, np.ndarray) else jnp
+        c = self.counters
+        outcome = xp.where(c[..., _ALIVE] > 0, STEP_LIMIT, c[..., _OUTCOME]).astype(c.dtype)
+        if xp is np:
+            c = c.copy()
+            c[..., _OUTCOME] = outcome
+        else:
+            c = c.at[..., _OUTCOME].set(outcome)
+        return dataclasses.replace(self, counters=c)
 
 
 @jax.tree_util.register_dataclass
@@ -242,13 +304,8 @@ def initial_state(throw: Throw, stone: RigidStone) -> StoneState:
 
 
 def _new_tracker(k: int, dtype) -> Tracker:
-    i0 = jnp.asarray(0, jnp.int32)
-    return Tracker(
-        alive=jnp.asarray(True), outcome=i0, phase=i0, bounces=i0, contacts=i0,
-        t_leave=jnp.asarray(jnp.nan, dtype), tilt_leave=jnp.asarray(jnp.nan, dtype),
-        starts=jnp.full((k, 5), jnp.nan, dtype), ends=jnp.full((k, 2), jnp.nan, dtype),
-        contact_steps=i0,
-    )
+    counters = jnp.zeros(6, jnp.int32).at[_ALIVE].set(1)
+    return Tracker(counters=counters, leave=jnp.full(2, jnp.nan, dtype), log=jnp.full((k, 7), jnp.nan, dtype))
 
 
 def _world_inertia_inv(stone, R):
@@ -449,11 +506,6 @@ def _step_length(config, stone, water, state: StoneState, gap, wet):
     return jnp.clip(t_star, config.dt, config.max_flight_step), dry & (t_star >= config.dt)
 
 
-def _log(buffer, index, write, value):
-    """``buffer[index] = value`` where ``write`` is true (touches one entry, not the whole log)."""
-    return buffer.at[index].set(jnp.where(write, value, buffer[index]))
-
-
 def make_step(config: SimConfig, surface=_flat, push: bool = False):
     """Return the pure step ``step(carry, stone, water) -> (carry, record)``.
 
@@ -502,17 +554,21 @@ def make_step(config: SimConfig, surface=_flat, push: bool = False):
         outcome = jnp.where(tr.alive, outcome, tr.outcome)
         alive = tr.alive & (outcome == RUNNING)
 
+        # One kernel-sized update per buffer: a step begins a contact or ends one, never both
+        # (``begin`` needs the air phase, ``bounce`` the leaving phase), so one log row is touched.
+        counters = jnp.stack([
+            alive.astype(jnp.int32), outcome.astype(jnp.int32), phase.astype(jnp.int32),
+            tr.bounces + bounce.astype(jnp.int32), tr.contacts + begin.astype(jnp.int32),
+            tr.contact_steps + (alive & wet).astype(jnp.int32)])
+        row_idx = jnp.where(begin, idx_new, idx_cur)
+        row = tr.log[row_idx]
+        start_row = jnp.concatenate([t[None], state.position, tilt[None], row[5:]])
+        end_row = jnp.concatenate([row[:5], tr.leave])
+        row = jnp.where(log_new, start_row, jnp.where(log_end, end_row, row))
         tr1 = Tracker(
-            alive=alive,
-            outcome=outcome.astype(jnp.int32),
-            phase=phase.astype(jnp.int32),
-            bounces=tr.bounces + bounce.astype(jnp.int32),
-            contacts=tr.contacts + begin.astype(jnp.int32),
-            t_leave=jnp.where(leave, t, tr.t_leave),
-            tilt_leave=jnp.where(leave, tilt, tr.tilt_leave),
-            starts=_log(tr.starts, idx_new, log_new, jnp.concatenate([t[None], state.position, tilt[None]])),
-            ends=_log(tr.ends, idx_cur, log_end, jnp.stack([tr.t_leave, tr.tilt_leave])),
-            contact_steps=tr.contact_steps + (alive & wet).astype(jnp.int32),
+            counters=counters,
+            leave=jnp.where(leave, jnp.stack([t, tilt]), tr.leave),
+            log=tr.log.at[row_idx].set(row),
         )
 
         # --- integrate; a stone out of play keeps its state ---
@@ -621,8 +677,7 @@ def rollout(config: SimConfig, throw: Throw, stone: RigidStone, water: WaterPara
     carry = (state, _new_tracker(config.max_contacts, state.position.dtype))
     step = make_step(config, surface)
     (state, tr), recs = _scan(config, step, carry, stone, water)
-    tr = dataclasses.replace(tr, outcome=jnp.where(tr.alive, STEP_LIMIT, tr.outcome).astype(jnp.int32))
-    return state, tr, (recs if config.record else None)
+    return state, tr.finish(), (recs if config.record else None)
 
 
 rollout_jit = jax.jit(rollout, static_argnames=("config", "surface"))

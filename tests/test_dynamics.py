@@ -7,7 +7,7 @@ import jax.numpy as jnp
 import numpy as np
 import pytest
 
-from jaxskip import SimConfig, Throw, clanet_disk, ellipsoid_pebble, initial_state, rigid_stone, rollout_jit
+from jaxskip import SimConfig, Throw, clanet_disk, ellipsoid_pebble, initial_state, rigid_stone, rollout, rollout_jit
 from jaxskip import quaternion as quat
 from jaxskip.simulate import free_rotation
 
@@ -151,3 +151,44 @@ def test_contact_torque_precesses_the_tilt_at_a_rate_inverse_to_spin(water):
     assert np.all(np.abs(tilt - 10.0) < 1.5)                             # the size is kept...
     assert 1.0 < turn[1] < turn[0]                                       # ...the direction turns,
     assert 3.3 < turn[0] / turn[1] < 4.7     # 4x less at 4x the spin (measured 54.8 vs 13.9 deg)
+
+
+def test_contact_log_agrees_with_the_records(paper, water):
+    """The packed tracker (one log row touched per step) logs what the per-step records show:
+    each contact starts at the first wet step after the air, ends at the first dry step of the
+    leave that became a bounce, and starts at the centre of mass of its first wet step."""
+    config = SimConfig(max_steps=6000)
+    state, tr, rec = jax.jit(lambda t: rollout(config, t, paper, water))(Throw.from_degrees())
+    t, x = np.asarray(rec.time), np.asarray(rec.position)
+    wet, gap = np.asarray(rec.wetted_area) > 0.0, np.asarray(rec.gap)
+    live = np.concatenate([[True], np.diff(t) > 0])  # frozen rows repeat the last time
+    starts, ends, phase, t_leave = [], [], 0, np.nan
+    for i in np.flatnonzero(live):
+        if wet[i] and phase == 0:
+            starts.append((t[i], x[i, 0])); phase = 1
+        elif wet[i] and phase == 2:
+            phase = 1
+        elif not wet[i] and phase == 1:
+            t_leave, phase = t[i], 2
+        elif not wet[i] and phase == 2 and gap[i] > config.bounce_clearance:
+            ends.append(t_leave); phase = 0
+    n = int(tr.contacts)
+    assert n == len(starts) >= 5 and int(tr.bounces) == len(ends)
+    np.testing.assert_array_equal(np.asarray(tr.t_start[:n]), [s[0] for s in starts])
+    np.testing.assert_array_equal(np.asarray(tr.x_start[:n, 0]), [s[1] for s in starts])
+    np.testing.assert_array_equal(np.asarray(tr.t_end[:len(ends)]), ends)
+    assert np.all(np.isnan(np.asarray(tr.t_end[len(ends):]))) and np.all(np.isnan(np.asarray(tr.t_start[n:])))
+    assert np.all(np.asarray(tr.t_end[:len(ends)]) > np.asarray(tr.t_start[:len(ends)]))
+
+
+def test_tracker_finish_marks_throws_still_in_play(paper, water):
+    """``Tracker.finish``: outcome ``step_limit`` where alive, on JAX and batched NumPy trackers alike."""
+    from jaxskip.simulate import STEP_LIMIT, _new_tracker
+
+    tr = _new_tracker(3, jnp.float64)
+    assert int(tr.finish().outcome) == STEP_LIMIT and bool(tr.alive)
+    batch = jax.tree_util.tree_map(lambda a: np.stack([np.asarray(a)] * 2), tr)
+    batch.counters[1, 0:2] = (0, 1)  # second throw: dead, sank
+    done = batch.finish()
+    np.testing.assert_array_equal(done.outcome, [STEP_LIMIT, 1])
+    np.testing.assert_array_equal(batch.outcome, [0, 1])  # the input is not modified
