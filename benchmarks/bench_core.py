@@ -480,12 +480,11 @@ def _alive_steps(jax, throws, config, stone, water, chunk=1000):
 def section_breakdown(dtype, p):
     """Where a batched step's time goes: the full step vs its parts, on a batch in contact with the water."""
     jax = _setup_jax(dtype)
-    import jax.numpy as jnp
 
     from jaxskip import ForceModel, SimConfig
     from jaxskip import quaternion as quat
-    from jaxskip.clipping import immersed_areas
-    from jaxskip.forces import water_force, world_triangles
+    from jaxskip.clipping import immersed_areas_from_heights
+    from jaxskip.forces import flat_surface, vertex_heights, water_force
     from jaxskip.simulate import free_rotation, make_step, rollout
 
     stone, water, _ = _setup_model()
@@ -496,8 +495,7 @@ def section_breakdown(dtype, p):
     warmup = SimConfig(record=False, max_steps=40)
     state, tr, _ = jax.jit(jax.vmap(lambda t: rollout(warmup, t, stone, water)))(throws)
     step = make_step(SimConfig(record=False))
-    flat = lambda x, y: 0.0 * x
-    zeros = jnp.zeros(stone.triangles.shape[:2], state.position.dtype)
+    flat = flat_surface
 
     parts = (
         ("whole step (bookkeeping + force + Euler + free rotation)",
@@ -505,8 +503,9 @@ def section_breakdown(dtype, p):
         ("water_force (clipping + per-face law + sums)",
          lambda s, t: water_force(ForceModel(), water, stone, s.position, quat.to_matrix(s.orientation),
                                   s.velocity, s.angular_velocity, flat)),
-        ("  of which world triangles + exact clipping",
-         lambda s, t: immersed_areas(world_triangles(stone, s.position, quat.to_matrix(s.orientation))[0], zeros)),
+        ("  of which vertex heights + exact clipping (body frame)",
+         lambda s, t: immersed_areas_from_heights(
+             stone.triangles, vertex_heights(stone, s.position, quat.to_matrix(s.orientation), flat))),
         ("free_rotation (2 substeps)",
          lambda s, t: free_rotation(s.orientation, s.angular_velocity, stone, 2.5e-4)),
     )

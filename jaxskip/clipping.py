@@ -47,15 +47,24 @@ import jax
 import jax.numpy as jnp
 
 
-def _sort_permutation(z):
-    """One-hot permutation ``P`` (3, 3) with ``P @ z`` sorted ascending (ties by index).
+def _sorted_vertices(z, p):
+    """The heights ``z`` (3,) sorted ascending, ties by index, and the vertices ``p`` (3, 3) in
+    the same order: ``(a, b, c), (pa, pb, pc)``.
 
-    Built from comparisons only (no sort op), so it is cheap under ``vmap``.
+    Built from comparisons and selects only (no sort op, no permutation matrix): each vertex's
+    rank counts the vertices below it, and each sorted slot picks the vertex of that rank.
     """
-    idx = jnp.arange(3)
-    before = (z[None, :] < z[:, None]) | ((z[None, :] == z[:, None]) & (idx[None, :] < idx[:, None]))
-    rank = jnp.sum(before, axis=1)
-    return (rank[None, :] == idx[:, None]).astype(z.dtype)
+    z0, z1, z2 = z[0], z[1], z[2]
+    # rank_i = #{j : z_j < z_i, or z_j == z_i and j < i}: distinct, so the ranks are a permutation.
+    r0 = (z1 < z0).astype(jnp.int32) + (z2 < z0).astype(jnp.int32)
+    r1 = (z0 <= z1).astype(jnp.int32) + (z2 < z1).astype(jnp.int32)
+
+    def pick(k, v0, v1, v2):
+        return jnp.where(r0 == k, v0, jnp.where(r1 == k, v1, v2))
+
+    heights = tuple(pick(k, z0, z1, z2) for k in range(3))
+    vertices = tuple(pick(k, p[0], p[1], p[2]) for k in range(3))
+    return heights, vertices
 
 
 def _tri_integrals(alpha, q, d):
@@ -89,9 +98,7 @@ def clip_integrals(p, zeta):
     Gradients are finite everywhere: every division is guarded by a double
     ``where`` so that the branch not taken never divides by zero.
     """
-    P = _sort_permutation(zeta)
-    a, b, c = jnp.sum(P * zeta[None, :], axis=1)
-    pa, pb, pc = jnp.sum(P[:, :, None] * p[None, :, :], axis=1)
+    (a, b, c), (pa, pb, pc) = _sorted_vertices(zeta, p)
 
     all_under = c <= 0.0
     one_above = (b <= 0.0) & (c > 0.0)
@@ -146,7 +153,15 @@ def immersed_area(p, surface, sharpness=None):
     >>> round(float(f), 6)   # corner at the low vertex: (1/2) * (1/2)
     0.25
     """
-    zeta = p[:, 2] - surface
+    return immersed_area_from_heights(p, p[:, 2] - surface, sharpness)
+
+
+def immersed_area_from_heights(p, zeta, sharpness=None):
+    r"""As :func:`immersed_area`, from the vertices' heights above the water ``zeta`` (3,) [m].
+
+    ``p`` (3, 3) may be in any frame (the body frame, say): the clipping depends on
+    the heights only, and the centroid comes out in the frame of ``p``.
+    """
     if sharpness is None:
         frac, moment, _, _ = clip_integrals(p, zeta)
     else:
@@ -158,6 +173,11 @@ def immersed_area(p, surface, sharpness=None):
     wet = frac > 1e-14
     centroid = jnp.where(wet, moment / jnp.where(wet, frac, 1.0), jnp.mean(p, axis=0))
     return frac, centroid
+
+
+def immersed_areas_from_heights(p, zeta, sharpness=None):
+    """:func:`immersed_area_from_heights` over a mesh: ``p`` (F, 3, 3), ``zeta`` (F, 3) -> (F,), (F, 3)."""
+    return jax.vmap(lambda pi, zi: immersed_area_from_heights(pi, zi, sharpness))(p, zeta)
 
 
 def immersed_areas(p, surface, sharpness=None):

@@ -188,6 +188,11 @@ def triangle_force(model: ForceModel, params: WaterParams, normal, area, velocit
     return force
 
 
+def flat_surface(x, y):
+    """Water at rest: height 0 [m] at every ``(x, y)`` (arrays of any shape)."""
+    return 0.0 * x
+
+
 def world_triangles(stone, position, R):
     """Stone triangles in the world frame: (F, 3, 3) [m], normals (F, 3)."""
     tri = position[None, None, :] + quaternion.rotate(R, stone.triangles)
@@ -195,25 +200,59 @@ def world_triangles(stone, position, R):
     return tri, normals
 
 
+def vertex_heights(stone, position, R, surface):
+    """Height of every triangle vertex above the water surface under it, (F, 3) [m] (negative: immersed).
+
+    Only the world z of each vertex is formed (one row of ``R``); its world x and y only
+    where the water is not flat (``surface`` is not :func:`flat_surface`).
+    """
+    z = jnp.sum(stone.triangles * R[2][None, None, :], axis=-1) + position[2]
+    if surface is flat_surface:
+        return z
+    tri, _ = world_triangles(stone, position, R)
+    return z - surface(tri[..., 0], tri[..., 1])
+
+
+def body_triangle_forces(model: ForceModel, params: WaterParams, stone, position, R, velocity, omega, surface):
+    r"""Per-triangle water forces in the stone's body frame: the kernel the simulator runs.
+
+    The law is invariant under rotation, so each triangle is clipped and loaded in the body
+    frame, where its vertices and normal are constants of the stone; only the vertices'
+    heights above the water (:func:`vertex_heights`) and the one velocity vector
+    :math:`R^\top v` depend on the pose. Arguments as for :func:`water_force`.
+
+    Returns ``forces`` (F, 3) [N] and immersed ``centroids`` (F, 3) [m] relative to the
+    centre of mass, both in body axes, and immersed ``areas`` (F,) [m^2].
+    """
+    zeta = vertex_heights(stone, position, R, surface)
+    frac, centroid = clipping.immersed_areas_from_heights(stone.triangles, zeta, model.sharpness)
+    area = frac * stone.areas
+    v_body = quaternion.rotate_inverse(R, velocity)
+    if model.velocity == "local":
+        vel = v_body[None, :] + jnp.cross(quaternion.rotate_inverse(R, omega)[None, :], centroid)
+    else:
+        vel = jnp.broadcast_to(v_body[None, :], centroid.shape)
+    forces = jax.vmap(lambda n, s, v: triangle_force(model, params, n, s, v))(stone.normals, area, vel)
+    return forces, centroid, area
+
+
+def body_total_force(forces, centroid, area, R):
+    """Sum :func:`body_triangle_forces`' output and turn it to the world frame: force (3,) [N],
+    torque (3,) about the centre of mass [N m], wetted area () [m^2]."""
+    torque = jnp.sum(jnp.cross(centroid, forces), axis=0)
+    return quaternion.rotate(R, jnp.sum(forces, axis=0)), quaternion.rotate(R, torque), jnp.sum(area)
+
+
 def triangle_forces(model: ForceModel, params: WaterParams, stone, position, R, velocity, omega, surface):
-    r"""Per-triangle water forces: the kernel of :func:`water_force`, before summing.
+    r"""Per-triangle water forces in the world frame: :func:`body_triangle_forces`, turned.
 
     Arguments as for :func:`water_force`. Returns ``forces`` (F, 3) [N] on the
     stone, immersed ``centroids`` (F, 3) [m] (world frame; where each force acts)
     and immersed ``areas`` (F,) [m^2]. The water feels ``-forces`` at the
     centroids (the height-field coupling, :mod:`jaxskip.coupled`).
     """
-    tri, normals = world_triangles(stone, position, R)
-    h = surface(tri[..., 0], tri[..., 1])
-    frac, centroid = clipping.immersed_areas(tri, h, model.sharpness)
-    area = frac * stone.areas
-    r = centroid - position[None, :]
-    if model.velocity == "local":
-        vel = velocity[None, :] + jnp.cross(omega[None, :], r)
-    else:
-        vel = jnp.broadcast_to(velocity[None, :], r.shape)
-    forces = jax.vmap(lambda n, s, v: triangle_force(model, params, n, s, v))(normals, area, vel)
-    return forces, centroid, area
+    forces, centroid, area = body_triangle_forces(model, params, stone, position, R, velocity, omega, surface)
+    return quaternion.rotate(R, forces), quaternion.rotate(R, centroid) + position[None, :], area
 
 
 def water_force(model: ForceModel, params: WaterParams, stone, position, R, velocity, omega, surface):
@@ -226,18 +265,19 @@ def water_force(model: ForceModel, params: WaterParams, stone, position, R, velo
     position : (3,) centre of mass [m]; ``R`` (3, 3) body-to-world rotation.
     velocity : (3,) centre-of-mass velocity [m/s]; ``omega`` (3,) angular velocity, world frame [rad/s].
     surface : callable ``(x, y) -> h`` giving the water height [m] at world
-        coordinates (arrays of any shape); flat water is ``lambda x, y: 0 * x``.
+        coordinates (arrays of any shape); flat water is :func:`flat_surface`.
 
     Returns
     -------
     force : (3,) [N]; torque : (3,) about the centre of mass [N m]; wetted : () immersed area [m^2].
     """
-    return total_force(*triangle_forces(model, params, stone, position, R, velocity, omega, surface), position)
+    parts = body_triangle_forces(model, params, stone, position, R, velocity, omega, surface)
+    return body_total_force(*parts, R)
 
 
 def total_force(forces, centroid, area, position):
-    """Sum :func:`triangle_forces`' output: force (3,) [N], torque (3,) about ``position`` [N m],
-    wetted area () [m^2]."""
+    """Sum :func:`triangle_forces`' (world-frame) output: force (3,) [N], torque (3,) about
+    ``position`` [N m], wetted area () [m^2]."""
     r = centroid - position[None, :]
     torque = jnp.sum(jnp.cross(r, forces), axis=0)
     return jnp.sum(forces, axis=0), torque, jnp.sum(area)

@@ -49,7 +49,7 @@ import numpy as np
 from . import quaternion as quat
 from ._checks import check_choice, check_int, check_positive, check_range
 from .body import RigidStone
-from .forces import ForceModel, WaterParams, total_force, triangle_forces, world_triangles
+from .forces import ForceModel, WaterParams, body_total_force, body_triangle_forces, flat_surface, vertex_heights
 from .throw import Throw, attitude
 
 INTEGRATORS = ("euler", "rk4")
@@ -285,8 +285,7 @@ def _tilt_from_matrix(R):
     return jnp.arctan2(h, R[2, 2])
 
 
-def _flat(x, y):
-    return 0.0 * x
+_flat = flat_surface
 
 
 def initial_state(throw: Throw, stone: RigidStone) -> StoneState:
@@ -323,10 +322,11 @@ def _dynamics(config: SimConfig, stone: RigidStone, water: WaterParams, surface)
     def deriv(x, v, q, L):
         R = quat.to_matrix(q)
         omega = jnp.zeros(3) * L if fixed else quat.rotate(_world_inertia_inv(stone, R), L)
-        parts = triangle_forces(config.force, water, stone, x, R, v, omega, surface)
-        F, tau, wet = total_force(*parts, x)
+        parts = body_triangle_forces(config.force, water, stone, x, R, v, omega, surface)
+        F, tau, wet = body_total_force(*parts, R)
         a = F / stone.mass + _gravity(water)
-        aux = (F, wet, parts[0], parts[1])      # + per-triangle forces and centroids (coupled water)
+        # + per-triangle forces and centroids in the world frame (the coupled water; unused otherwise)
+        aux = (F, wet, quat.rotate(R, parts[0]), quat.rotate(R, parts[1]) + x[None, :])
         if fixed:
             return (v, a, jnp.zeros(4) * q, jnp.zeros(3) * L), aux
         qdot = 0.5 * quat.multiply(jnp.concatenate([jnp.zeros(1) * L[:1], omega]), q)
@@ -524,8 +524,7 @@ def make_step(config: SimConfig, surface=_flat, push: bool = False):
         first = deriv(state.position, state.velocity, state.orientation, L)
         F, wet_area, tri_forces, tri_centroids = first[1]
         # Height of every vertex above the water surface under it.
-        tri, _ = world_triangles(stone, state.position, R)
-        above = tri[..., 2] - surface(tri[..., 0], tri[..., 1])
+        above = vertex_heights(stone, state.position, R, surface)
         gap = jnp.min(above)
         top = jnp.max(above)
         dt, dry = _step_length(config, stone, water, state, gap, wet_area)
