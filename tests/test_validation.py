@@ -69,3 +69,22 @@ def test_batched_throw_is_validated_elementwise():
         Throw.from_degrees(speed=[5.0, -2.0])
     with pytest.raises(ParameterError, match="tilt"):
         Throw.from_degrees(tilt=[10.0, float("nan")])
+
+
+def test_builtin_stones_are_built_once_and_still_validated():
+    """``resolve_stone`` caches built-in stones per (name, mass, density, precision); bad
+    masses and densities are refused before the cache, whatever their type."""
+    import numpy as np
+
+    from jaxskip.api import resolve_stone
+
+    a, name = resolve_stone("paper")
+    assert resolve_stone("paper")[0] is a and name == "paper"
+    heavy, _ = resolve_stone("paper", mass=np.array(0.2))   # an array is fine: validated to a float
+    assert heavy is not a and abs(float(heavy.mass) - 0.2) < 1e-12
+    assert str(a.mass.dtype) == "float64"                   # the suite runs in float64
+    for bad in (math.nan, -1.0, np.array([0.1, 0.2])):
+        with pytest.raises(ParameterError, match="mass"):
+            resolve_stone("paper", mass=bad)
+    with pytest.raises(ParameterError, match="density"):
+        resolve_stone("disk", density=0.0)
