@@ -285,9 +285,6 @@ def _tilt_from_matrix(R):
     return jnp.arctan2(h, R[2, 2])
 
 
-_flat = flat_surface
-
-
 def initial_state(throw: Throw, stone: RigidStone) -> StoneState:
     """State at release: lowest point ``throw.height`` above flat water, velocity and spin from the throw."""
     q = attitude(throw.tilt, throw.heading)
@@ -506,7 +503,7 @@ def _step_length(config, stone, water, state: StoneState, gap, wet):
     return jnp.clip(t_star, config.dt, config.max_flight_step), dry & (t_star >= config.dt)
 
 
-def make_step(config: SimConfig, surface=_flat, push: bool = False):
+def make_step(config: SimConfig, surface=flat_surface, push: bool = False):
     """Return the pure step ``step(carry, stone, water) -> (carry, record)``.
 
     ``carry = (StoneState, Tracker)``. ``surface(x, y) -> h`` is the water height
@@ -664,7 +661,7 @@ def _scan(config: SimConfig, step, carry, stone, water):
     return carry, (unpack(recs) if config.record else None)
 
 
-def rollout(config: SimConfig, throw: Throw, stone: RigidStone, water: WaterParams, surface=_flat):
+def rollout(config: SimConfig, throw: Throw, stone: RigidStone, water: WaterParams, surface=flat_surface):
     """Simulate one throw for ``config.max_steps`` steps: pure, jit/vmap/grad-able.
 
     Returns ``(state, tracker, records)``: the final :class:`StoneState`, the
