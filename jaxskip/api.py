@@ -16,14 +16,16 @@ import sys
 import time
 
 import jax
+import jax.numpy as jnp
 import numpy as np
 
+from ._arrays import float_array
 from ._checks import ParameterError, check_int, check_positive
 from .body import RigidStone, rigid_stone
 from .forces import WaterParams, water_params
 from .mesh import TriMesh
 from .coupled import default_water_dt, initial_field, make_coupled_step
-from .simulate import OUTCOMES, STEP_LIMIT, SimConfig, _new_tracker, _scan, initial_state, make_step
+from .simulate import _ALIVE, OUTCOMES, STEP_LIMIT, SimConfig, StoneState, Tracker, _new_tracker, _scan, initial_state, make_step
 from .stones import BUILTIN_STONES, load_stone
 from .throw import Throw
 from .water import WaterGrid, total_volume
@@ -175,6 +177,10 @@ def resolve_stone(stone, *, mass=None, density=None) -> tuple[RigidStone, str]:
 def _chunk_runner(config: SimConfig, chunk: int, grid=None):
     """One compiled chunk of ``chunk`` steps per configuration (memoised: no recompiles).
 
+    ``run(carry, throw, start, stone, water)``: with ``start`` true the chunk begins from the
+    throw's release state and an empty tracker (``carry`` then only gives shapes, see
+    :func:`_blank_carry`), otherwise from ``carry``. Releasing the stone inside the chunk's
+    program saves a first call in a fresh process a second compile (~0.3 s).
     With a :class:`jaxskip.water.WaterGrid` the step is the coupled one (carry includes the field).
     """
     config = dataclasses.replace(config, record=True)  # simulate() always returns the trajectory
@@ -182,16 +188,28 @@ def _chunk_runner(config: SimConfig, chunk: int, grid=None):
     chunk_config = dataclasses.replace(config, max_steps=chunk, segment=min(config.segment, chunk), checkpoint=0)
 
     @jax.jit
-    def run(carry, stone, water):
+    def run(carry, throw, start, stone, water):
+        state = initial_state(throw, stone)
+        fresh = (state, _new_tracker(config.max_contacts, state.position.dtype)) + tuple(carry[2:])
+        carry = jax.tree_util.tree_map(lambda a, b: jnp.where(start, a, b), fresh, carry)
         return _scan(chunk_config, step, carry, stone, water)
 
     return run
 
 
+def _blank_carry(contacts: int):
+    """Zeros shaped like a flat-water carry (state, tracker), made on the host: the first chunk
+    replaces them with the release state (``start=True``)."""
+    z = lambda *shape: float_array(np.zeros(shape))
+    state = StoneState(z(3), z(3), z(4), z(3), z())
+    return state, Tracker(counters=jax.device_put(np.zeros(6, np.int32)), leave=z(2), log=z(contacts, 7))
+
+
 @functools.partial(jax.jit, static_argnames=("contacts",))
 def _start(throw: Throw, stone: RigidStone, contacts: int):
     """The state at release and an empty tracker, compiled as one program (op by op, a first
-    call in a fresh process compiled ~100 tiny kernels: ~0.6 s)."""
+    call in a fresh process compiled ~100 tiny kernels: ~0.6 s). For the coupled water, whose
+    field starts under the released stone."""
     state = initial_state(throw, stone)
     return state, _new_tracker(contacts, state.position.dtype)
 
@@ -253,17 +271,18 @@ def simulate(
     if progress and _chunk_runner.cache_info().currsize > compiled_before:
         print("  compiling the simulator for this configuration (once, ~2 s)...", file=sys.stderr, flush=True)
 
-    carry = _start(throw, rigid, config.max_contacts)
-    state = carry[0]
-    start = np.asarray(state.position)
     frames = []
-    if water_field is not None:
-        carry = carry + (initial_field(water_field, state.position),)
+    if water_field is None:
+        carry, start = _blank_carry(config.max_contacts), True
+    else:
+        carry, start = _start(throw, rigid, config.max_contacts), False
+        carry = carry + (initial_field(water_field, carry[0].position),)
         volume0 = float(total_volume(water_field, carry[2].water))
     records = []
     done = 0
     while done < config.max_steps:
-        carry, rec = run(carry, rigid, water)
+        carry, rec = run(carry, throw, np.bool_(start), rigid, water)
+        start = False
         records.append(jax.device_get(rec))
         if water_field is not None:
             f = carry[2]
@@ -271,7 +290,9 @@ def simulate(
                            np.asarray(f.water.height), np.asarray(carry[0].position),
                            np.asarray(carry[0].orientation)))
         done += chunk
-        alive = bool(carry[1].alive)
+        # Read on the host: indexing the device array would compile three tiny kernels (~0.1 s) on a
+        # first call.
+        alive = bool(np.asarray(carry[1].counters)[_ALIVE])
         if progress:
             print(f"\r  simulated {float(carry[0].time):6.3f} s in {done} steps", end="", file=sys.stderr, flush=True)
         if not alive:
@@ -302,7 +323,8 @@ def simulate(
         )
         for i in range(k)
     ]
-    distance = float(np.hypot(*(np.asarray(state.position)[:2] - start[:2])))
+    release = traj["position"][0]  # the first record: the state at release
+    distance = float(np.hypot(*(np.asarray(state.position)[:2] - release[:2])))
     return ThrowResult(
         bounces=int(tr.bounces), contacts=contacts, n_contacts=int(tr.contacts), distance=distance,
         outcome=outcome, final_time=end_time, steps=n_alive, trajectory=traj, throw=throw, config=config,

@@ -12,6 +12,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
+from ._arrays import float_array
 from ._checks import ParameterError, check_positive
 from .mesh import TriMesh, mass_properties
 
@@ -92,7 +93,7 @@ def rigid_stone(mesh: TriMesh, *, density: float | None = None, mass: float | No
     area2 = np.linalg.norm(cross, axis=1)
     inertia = axes.T @ np.asarray(props.inertia, dtype=np.float64) @ axes
     inertia = np.diag(np.diag(inertia))  # principal frame: off-diagonals are rounding
-    f = jnp.asarray
+    f = float_array  # no compile per field on a first call (jnp.asarray would lift each one)
     return RigidStone(
         triangles=f(tri),
         normals=f(cross / area2[:, None]),

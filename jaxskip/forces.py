@@ -42,6 +42,7 @@ import jax
 import jax.numpy as jnp
 
 from . import clipping, quaternion
+from ._arrays import float_array
 from ._checks import ParameterError, check_choice, check_positive, check_real
 
 LAWS = ("seed", "bocquet")
@@ -132,7 +133,7 @@ def water_params(
         raise ParameterError(f"c_lift must be >= 0, got {cl!r}")
     if cf < 0:
         raise ParameterError(f"c_friction must be >= 0, got {cf!r}")
-    f = jnp.asarray
+    f = float_array  # ready device scalars: no compile on a first call
     return WaterParams(
         c_lift=f(cl),
         c_friction=f(cf),

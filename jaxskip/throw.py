@@ -21,6 +21,7 @@ import jax.numpy as jnp
 import numpy as np
 
 from . import quaternion
+from ._arrays import float_array
 from ._checks import check_array
 
 MAX_SPEED = 100.0
@@ -72,7 +73,7 @@ class Throw:
             heading=check_array("heading", heading, -1e6, 1e6, unit="rad"),
         )
         shape = np.broadcast_shapes(*(a.shape for a in fields.values()))
-        return cls(**{k: jnp.asarray(np.broadcast_to(a, shape)) for k, a in fields.items()})
+        return cls(**{k: float_array(np.broadcast_to(a, shape)) for k, a in fields.items()})
 
     @classmethod
     def from_degrees(cls, speed=8.0, tilt=20.0, attack=5.0, spin=20.0, height=0.001, heading=0.0) -> "Throw":

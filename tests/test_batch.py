@@ -59,6 +59,25 @@ def test_simulate_reuses_its_compiled_chunk():
     assert runner._cache_size() == before == 1
 
 
+def test_first_simulate_in_a_fresh_process_compiles_one_program():
+    """The first throw's cost is its compile: one program for a 2-chunk throw (the release state
+    is computed inside the chunk, the stone, throw and water constants reach the device without
+    a compiled lift each, the loop test reads the tracker on the host)."""
+    import subprocess
+    import sys
+
+    code = ("import logging, jax, jaxskip\n"
+            "jax.config.update('jax_enable_x64', True)\n"
+            "logging.basicConfig(level=logging.WARNING)\n"
+            "jax.config.update('jax_log_compiles', True)\n"
+            "r = jaxskip.simulate()\n"
+            "print('steps', r.steps)\n")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=300, check=True)
+    compiles = [line for line in out.stderr.splitlines() if "Compiling jit(" in line]
+    assert "steps 1147" in out.stdout  # two chunks of 1000 steps: the second one reuses the program
+    assert len(compiles) == 1, compiles
+
+
 def test_simulate_accepts_a_batch_config():
     """A config made for batches (record=False) still gives simulate() its trajectory."""
     a = simulate(Throw.from_degrees(speed=6.0), config=SimConfig(record=False, max_steps=2000))
