@@ -32,6 +32,7 @@ import numpy as np
 import optax
 
 from jaxskip import SimConfig, simulate_batch, water_params
+from jaxskip._arrays import float_array
 from jaxskip._checks import ParameterError, check_int, check_positive, check_range
 from jaxskip.api import resolve_stone
 
@@ -125,12 +126,12 @@ def gradient_search(box: Box | None = None, *, objective: str = "bounces", stone
             if name not in initial:
                 raise ParameterError(f"initial must give every searched parameter; missing {name!r}")
             points[name][0] = check_range(f"initial {name}", initial[name], lo, hi)
-    u = jnp.asarray(box.from_user(points))
+    u = float_array(box.from_user(points))
     t_compile = time.perf_counter()
     value_and_grad = jax.jit(value_and_grad).lower(u).compile()
     t_compile = time.perf_counter() - t_compile
     t_grad = 0.0
-    state = jax.vmap(opt.init)(u)
+    state = jax.jit(jax.vmap(opt.init))(u)
     history, best, best_n, forward = [], None, -1, 0
     for it in range(iterations + 1):
         values = box.to_user(np.asarray(u))
@@ -146,9 +147,9 @@ def gradient_search(box: Box | None = None, *, objective: str = "bounces", stone
         t1 = time.perf_counter()
         obj, g = jax.block_until_ready(value_and_grad(u))
         t_grad += time.perf_counter() - t1
-        finite = jnp.all(jnp.isfinite(g), axis=-1)
-        g = jnp.where(finite[:, None], g, 0.0)
-        u, state = step_opt(g, state, u)
+        g = np.asarray(g)  # (starts, P): checked on the host (eager jnp ops would compile each)
+        finite = np.all(np.isfinite(g), axis=-1)
+        u, state = step_opt(float_array(np.where(finite[:, None], g, 0.0)), state, u)
         history.append({"iteration": it, "bounces": counts.tolist(), "objective": np.asarray(obj).tolist(),
                         "best": best_n, "nonfinite": int(np.sum(~np.asarray(finite)))})
         if progress:
