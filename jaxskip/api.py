@@ -189,8 +189,7 @@ def _chunk_runner(config: SimConfig, chunk: int, grid=None):
 
     @jax.jit
     def run(carry, throw, start, stone, water):
-        state = initial_state(throw, stone)
-        fresh = (state, _new_tracker(config.max_contacts, state.position.dtype)) + tuple(carry[2:])
+        fresh = _release(throw, stone, config.max_contacts) + tuple(carry[2:])
         carry = jax.tree_util.tree_map(lambda a, b: jnp.where(start, a, b), fresh, carry)
         return _scan(chunk_config, step, carry, stone, water)
 
@@ -205,13 +204,15 @@ def _blank_carry(contacts: int):
     return state, Tracker(counters=jax.device_put(np.zeros(6, np.int32)), leave=z(2), log=z(contacts, 7))
 
 
-@functools.partial(jax.jit, static_argnames=("contacts",))
-def _start(throw: Throw, stone: RigidStone, contacts: int):
-    """The state at release and an empty tracker, compiled as one program (op by op, a first
-    call in a fresh process compiled ~100 tiny kernels: ~0.6 s). For the coupled water, whose
-    field starts under the released stone."""
+def _release(throw: Throw, stone: RigidStone, contacts: int):
+    """The state at release and an empty tracker: the carry a throw starts from."""
     state = initial_state(throw, stone)
     return state, _new_tracker(contacts, state.position.dtype)
+
+
+#: :func:`_release` compiled as one program (op by op, a first call in a fresh process compiled
+#: ~100 tiny kernels: ~0.6 s), for the coupled water, whose field starts under the released stone.
+_start = functools.partial(jax.jit, static_argnames=("contacts",))(_release)
 
 
 def simulate(
