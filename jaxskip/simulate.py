@@ -304,21 +304,31 @@ def _new_tracker(k: int, dtype) -> Tracker:
     return Tracker(counters=counters, leave=jnp.full(2, jnp.nan, dtype), log=jnp.full((k, 7), jnp.nan, dtype))
 
 
-def _world_inertia_inv(stone, R):
-    return quat.congruence(R, stone.inv_inertia)
+def _spin_from_momentum(stone, R, L):
+    """Angular velocity (3,) [rad/s] from the world angular momentum ``L`` (3,) [kg m^2/s]:
+    :math:`\omega = R I^{-1} R^T L` (the inertia is diagonal in the body frame)."""
+    return quat.rotate(R, jnp.diagonal(stone.inv_inertia) * quat.rotate_inverse(R, L))
 
 
-def _world_inertia(stone, R):
-    return quat.congruence(R, stone.inertia)
+def _momentum_from_spin(stone, R, omega):
+    """World angular momentum (3,) [kg m^2/s] of the angular velocity ``omega`` (3,) [rad/s]:
+    :math:`L = R I R^T \omega`."""
+    return quat.rotate(R, jnp.diagonal(stone.inertia) * quat.rotate_inverse(R, omega))
 
 
 def _dynamics(config: SimConfig, stone: RigidStone, water: WaterParams, surface):
-    """Time derivative of (x, v, q, L) and the water force, for the integrators."""
+    """Time derivative of (x, v, q, L) and the water force, for the integrators.
+
+    The semi-implicit Euler step uses only the accelerations, so there the quaternion's rate
+    (and the angular velocity, unless the force law needs it) is not formed.
+    """
     fixed = config.attitude == "fixed"
+    need_qdot = config.integrator != "euler" and not fixed
+    need_omega = need_qdot or (config.force.velocity == "local" and not fixed)
 
     def deriv(x, v, q, L):
         R = quat.to_matrix(q)
-        omega = jnp.zeros(3) * L if fixed else quat.rotate(_world_inertia_inv(stone, R), L)
+        omega = _spin_from_momentum(stone, R, L) if need_omega else jnp.zeros(3) * L
         parts = body_triangle_forces(config.force, water, stone, x, R, v, omega, surface)
         F, tau, wet = body_total_force(*parts, R)
         a = F / stone.mass + _gravity(water)
@@ -326,6 +336,8 @@ def _dynamics(config: SimConfig, stone: RigidStone, water: WaterParams, surface)
         aux = (F, wet, quat.rotate(R, parts[0]), quat.rotate(R, parts[1]) + x[None, :])
         if fixed:
             return (v, a, jnp.zeros(4) * q, jnp.zeros(3) * L), aux
+        if not need_qdot:
+            return (v, a, jnp.zeros(4) * q, tau), aux
         qdot = 0.5 * quat.multiply(jnp.concatenate([jnp.zeros(1) * L[:1], omega]), q)
         return (v, a, qdot, tau), aux
 
@@ -351,6 +363,11 @@ def free_rotation(q, L, stone: RigidStone, h, substeps: int = 2):
     error is bounded (a symplectic splitting: no drift) and vanishes for an
     axisymmetric stone.
 
+    ``substeps`` Strang steps of ``h / substeps`` each. The asymmetric flow, a rotation
+    about the body y axis, keeps the body-frame :math:`L_2` it turns at, so the half
+    steps that meet between two Strang steps are one step of twice the length (the
+    same algebra, fewer operations: ``substeps + 1`` asymmetric flows, not ``2 substeps``).
+
     Evaluated on scalar components (:func:`_free_rotation_scalar`: a few fused kernels on
     XLA:CPU); differentiated through the same algebra on small vectors
     (:func:`_free_rotation_vector`), whose reverse pass XLA compiles well, while the scalar
@@ -366,60 +383,85 @@ def _free_rotation_jvp(substeps, primals, tangents):
     return free_rotation(*primals, substeps), tangent
 
 
+def _strang_lengths(substeps: int):
+    """Fractions of ``h`` of the asymmetric flows around the ``substeps`` symmetric ones."""
+    return [0.5] + [1.0] * (substeps - 1) + [0.5]
+
+
 def _free_rotation_vector(q, L, stone: RigidStone, h, substeps: int):
-    """:func:`free_rotation` on (3,)/(4,) vectors with the quaternion helpers (for derivatives)."""
+    """:func:`free_rotation` on (3,)/(4,) vectors (for derivatives: the arrays keep the reverse
+    pass to a few dozen kernels a step). The turns about body axes are written out: their
+    quaternions have two zero entries, and a turn needs only one column of ``R``."""
     inv = jnp.diagonal(stone.inv_inertia)
     c2 = inv[1] - inv[0]
     c3 = inv[2] - inv[0]
-    e2 = jnp.array([0.0, 1.0, 0.0])
-    e3 = jnp.array([0.0, 0.0, 1.0])
     k = h / substeps
 
-    def body_l(q):
-        return quat.rotate_inverse(quat.to_matrix(q), L)
+    def turn_y(q, angle):
+        # q ⊗ (cos, 0, sin, 0)
+        w, x, y, z = q[0], q[1], q[2], q[3]
+        c, s = jnp.cos(0.5 * angle), jnp.sin(0.5 * angle)
+        return c * q + s * jnp.stack([-y, -z, w, x])
 
-    def half_asym(q):
-        return quat.multiply(q, quat.exp_map(e2 * (body_l(q)[1] * c2 * 0.5 * k)))
+    def turn_z(q, angle):
+        # q ⊗ (cos, 0, 0, sin)
+        w, x, y, z = q[0], q[1], q[2], q[3]
+        c, s = jnp.cos(0.5 * angle), jnp.sin(0.5 * angle)
+        return c * q + s * jnp.stack([-z, y, -x, w])
 
-    for _ in range(substeps):
-        q = half_asym(q)
-        q = quat.multiply(quat.exp_map(L * (inv[0] * k)), quat.multiply(q, quat.exp_map(e3 * (body_l(q)[2] * c3 * k))))
-        q = quat.normalize(half_asym(q))
-    return q
+    def body_ly(q):
+        # (R^T L)_y: the second column of R(q) against L
+        w, x, y, z = q[0], q[1], q[2], q[3]
+        return jnp.sum(jnp.stack([2 * (x * y - w * z), 1 - 2 * (x * x + z * z), 2 * (y * z + w * x)]) * L)
+
+    def body_lz(q):
+        w, x, y, z = q[0], q[1], q[2], q[3]
+        return jnp.sum(jnp.stack([2 * (x * z + w * y), 2 * (y * z - w * x), 1 - 2 * (x * x + y * y)]) * L)
+
+    about_l = quat.exp_map(L * (inv[0] * k))
+    fracs = _strang_lengths(substeps)
+    q = turn_y(q, body_ly(q) * c2 * (fracs[0] * k))
+    for frac in fracs[1:]:
+        q = quat.multiply(about_l, turn_z(q, body_lz(q) * c3 * k))
+        q = turn_y(q, body_ly(q) * c2 * (frac * k))
+    return quat.normalize(q)
 
 
 def _free_rotation_scalar(q, L, stone: RigidStone, h, substeps: int):
     """:func:`free_rotation` on scalar components, for evaluation."""
     # Written on scalar components (no stacks, no reductions over 3- or 4-entry axes), so that
     # XLA:CPU fuses the whole chain into a few kernels instead of ~50 (per-kernel dispatch
-    # dominates a step on the CPU). Same algebra as quat.multiply / exp_map / rotate_inverse.
+    # dominates a step on the CPU). Same algebra as quat.multiply / exp_map / rotate_inverse,
+    # with the products by axis rotations written out (half their terms are zero).
     inv = jnp.diagonal(stone.inv_inertia)
     c2 = inv[1] - inv[0]
     c3 = inv[2] - inv[0]
     k = h / substeps
     Lx, Ly, Lz = L[0], L[1], L[2]
-    qt = (q[0], q[1], q[2], q[3])
 
-    def body_l(q):
-        # R(q)^T L: L in the body frame.
+    def asym(q, frac):
+        # q ⊗ (cos, 0, sin, 0): the turn about body y at rate L_2 (1/I_2 - 1/I_1), L_2 = (R^T L)_y.
         w, x, y, z = q
-        return (
-            (1 - 2 * (y * y + z * z)) * Lx + 2 * (x * y + w * z) * Ly + 2 * (x * z - w * y) * Lz,
-            2 * (x * y - w * z) * Lx + (1 - 2 * (x * x + z * z)) * Ly + 2 * (y * z + w * x) * Lz,
-            2 * (x * z + w * y) * Lx + 2 * (y * z - w * x) * Ly + (1 - 2 * (x * x + y * y)) * Lz,
-        )
+        ly = 2 * (x * y - w * z) * Lx + (1 - 2 * (x * x + z * z)) * Ly + 2 * (y * z + w * x) * Lz
+        half = 0.5 * ly * c2 * (frac * k)
+        c, s = jnp.cos(half), jnp.sin(half)
+        return (w * c - y * s, x * c - z * s, w * s + y * c, x * s + z * c)
 
-    def half_asym(q):
-        return _qmul(q, _exp_axis(body_l(q)[1] * c2 * 0.5 * k, 2))
+    def sym(q):
+        # exp(L k / I_1) ⊗ q ⊗ (cos, 0, 0, sin): about L, and about body z at rate L_3 (1/I_3 - 1/I_1).
+        w, x, y, z = q
+        lz = 2 * (x * z + w * y) * Lx + 2 * (y * z - w * x) * Ly + (1 - 2 * (x * x + y * y)) * Lz
+        half = 0.5 * lz * c3 * k
+        c, s = jnp.cos(half), jnp.sin(half)
+        return _qmul(about_l, (w * c - z * s, x * c + y * s, y * c - x * s, w * s + z * c))
 
     about_l = _exp_vec(Lx * inv[0] * k, Ly * inv[0] * k, Lz * inv[0] * k)
-    for _ in range(substeps):
-        qt = half_asym(qt)
-        qt = _qmul(about_l, _qmul(qt, _exp_axis(body_l(qt)[2] * c3 * k, 3)))
-        qt = half_asym(qt)
-        n = 1.0 / jnp.sqrt(qt[0] * qt[0] + qt[1] * qt[1] + qt[2] * qt[2] + qt[3] * qt[3])
-        qt = tuple(c * n for c in qt)
-    return jnp.stack(qt)
+    fracs = _strang_lengths(substeps)
+    qt = asym((q[0], q[1], q[2], q[3]), fracs[0])
+    for frac in fracs[1:]:
+        qt = asym(sym(qt), frac)
+    n = 1.0 / jnp.sqrt(qt[0] * qt[0] + qt[1] * qt[1] + qt[2] * qt[2] + qt[3] * qt[3])
+    return jnp.stack([c * n for c in qt])
 
 
 def _qmul(p, q):
@@ -430,14 +472,6 @@ def _qmul(p, q):
             pw * qx + px * qw + py * qz - pz * qy,
             pw * qy - px * qz + py * qw + pz * qx,
             pw * qz + px * qy - py * qx + pz * qw)
-
-
-def _exp_axis(angle, axis: int):
-    """Quaternion 4-tuple of a rotation by ``angle`` [rad] about body axis 1, 2 or 3 (x, y, z)."""
-    half = 0.5 * angle
-    c, s = jnp.cos(half), jnp.sin(half)
-    zero = 0.0 * angle
-    return (c,) + tuple(s if i == axis else zero for i in (1, 2, 3))
 
 
 def _exp_vec(x, y, z):
@@ -452,13 +486,12 @@ def _exp_vec(x, y, z):
     return (cos, sinc * x, sinc * y, sinc * z)
 
 
-def _integrate(config, stone, water, surface, state: StoneState, dt, first, dry):
-    """Advance the state by ``dt``; ``first`` is the derivative already evaluated at the start,
-    ``dry`` says no point of the stone can touch the water during the step."""
+def _integrate(config, stone, water, surface, state: StoneState, R, L, dt, first, dry):
+    """Advance the state by ``dt``; ``R`` (3, 3) and ``L`` (3,) are the attitude matrix and
+    angular momentum at the start, ``first`` the derivative already evaluated there, ``dry``
+    says no point of the stone can touch the water during the step."""
     deriv = _dynamics(config, stone, water, surface)
     x, v, q = state.position, state.velocity, state.orientation
-    R = quat.to_matrix(q)
-    L = quat.rotate(_world_inertia(stone, R), state.angular_velocity)
     g = _gravity(water)
     (_, a0, _, tau0), _ = first
     if config.integrator == "euler":
@@ -485,7 +518,7 @@ def _integrate(config, stone, water, surface, state: StoneState, dt, first, dry)
         # In the air the torque is zero and the free flow is exact: use it for long flight steps.
         q1 = jnp.where(dry, free_rotation(q, L, stone, dt), quat.normalize(q1))
         L1 = jnp.where(dry, L, L1)
-    omega1 = quat.rotate(_world_inertia_inv(stone, quat.to_matrix(q1)), L1)
+    omega1 = _spin_from_momentum(stone, quat.to_matrix(q1), L1)
     return x1, v1, q1, omega1
 
 
@@ -517,7 +550,7 @@ def make_step(config: SimConfig, surface=flat_surface, push: bool = False):
         state, tr = carry
         deriv = _dynamics(config, stone, water, surface)
         R = quat.to_matrix(state.orientation)
-        L = quat.rotate(_world_inertia(stone, R), state.angular_velocity)
+        L = _momentum_from_spin(stone, R, state.angular_velocity)
         first = deriv(state.position, state.velocity, state.orientation, L)
         F, wet_area, tri_forces, tri_centroids = first[1]
         # Height of every vertex above the water surface under it.
@@ -568,7 +601,7 @@ def make_step(config: SimConfig, surface=flat_surface, push: bool = False):
         )
 
         # --- integrate; a stone out of play keeps its state ---
-        x1, v1, q1, w1 = _integrate(config, stone, water, surface, state, dt, first, dry)
+        x1, v1, q1, w1 = _integrate(config, stone, water, surface, state, R, L, dt, first, dry)
         new = StoneState(x1, v1, q1, w1, t + dt)
         state1 = jax.tree_util.tree_map(lambda a, b: jnp.where(alive, a, b), new, state)
         rec = Record(t, state.position, state.orientation, wet_area, F, gap) if config.record else None
