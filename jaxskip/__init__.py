@@ -18,19 +18,26 @@ Quick start
 True
 """
 
-from ._checks import ParameterError
-from .api import Contact, ThrowResult, resolve_stone, simulate
-from .batch import BatchResult, simulate_batch
-from .body import RigidStone, rigid_stone
-from .forces import ForceModel, WaterParams, water_params
-from .mesh import MassProperties, MeshError, TriMesh, mass_properties, read_obj, validate_mesh, write_obj
-from .simulate import OUTCOMES, Record, SimConfig, StoneState, Tracker, initial_state, make_step, rollout, rollout_jit
-from .stones import BUILTIN_STONES, clanet_disk, disk, ellipsoid_pebble, irregular_pebble, load_stone, paper_stone
-from .throw import Throw
-from .water import WaterGrid, WaterState, height_at, make_water_step, run_water, stable_dt, still_water
+from . import _xla
+
+XLA_TUNING: str = _xla.apply()
+"""What ``import jaxskip`` did about XLA:CPU's small-loop option (see :mod:`jaxskip._xla`):
+``"applied"``, ``"opted-out"`` (``JAXSKIP_XLA_TUNING=0``), ``"user"`` (``XLA_FLAGS`` sets
+``--xla_backend_extra_options`` itself) or ``"too-late"`` (JAX's backend had started)."""
+
+from ._checks import ParameterError  # noqa: E402
+from .api import Contact, ThrowResult, resolve_stone, simulate  # noqa: E402
+from .batch import BatchResult, simulate_batch  # noqa: E402
+from .body import RigidStone, rigid_stone  # noqa: E402
+from .forces import ForceModel, WaterParams, water_params  # noqa: E402
+from .mesh import MassProperties, MeshError, TriMesh, mass_properties, read_obj, validate_mesh, write_obj  # noqa: E402
+from .simulate import OUTCOMES, Record, SimConfig, StoneState, Tracker, initial_state, make_step, rollout, rollout_jit  # noqa: E402
+from .stones import BUILTIN_STONES, clanet_disk, disk, ellipsoid_pebble, irregular_pebble, load_stone, paper_stone  # noqa: E402
+from .throw import Throw  # noqa: E402
+from .water import WaterGrid, WaterState, height_at, make_water_step, run_water, stable_dt, still_water  # noqa: E402
 
 __all__ = [
-    "BUILTIN_STONES", "BatchResult", "Contact", "ForceModel", "MassProperties", "MeshError", "OUTCOMES", "ParameterError",
+    "BUILTIN_STONES", "BatchResult", "XLA_TUNING", "Contact", "ForceModel", "MassProperties", "MeshError", "OUTCOMES", "ParameterError",
     "Record", "RigidStone", "SimConfig", "StoneState", "Throw", "ThrowResult", "Tracker", "TriMesh", "WaterParams",
     "clanet_disk", "disk", "ellipsoid_pebble", "initial_state", "irregular_pebble", "load_stone", "make_step",
     "mass_properties", "paper_stone", "read_obj", "resolve_stone", "rigid_stone", "rollout", "rollout_jit",

@@ -326,8 +326,8 @@ def _dynamics(config: SimConfig, stone: RigidStone, water: WaterParams, surface)
     need_qdot = config.integrator != "euler" and not fixed
     need_omega = need_qdot or (config.force.velocity == "local" and not fixed)
 
-    def deriv(x, v, q, L):
-        R = quat.to_matrix(q)
+    def deriv(x, v, q, L, R=None):
+        R = quat.to_matrix(q) if R is None else R
         omega = _spin_from_momentum(stone, R, L) if need_omega else jnp.zeros(3) * L
         parts = body_triangle_forces(config.force, water, stone, x, R, v, omega, surface)
         F, tau, wet = body_total_force(*parts, R)
@@ -551,7 +551,7 @@ def make_step(config: SimConfig, surface=flat_surface, push: bool = False):
         deriv = _dynamics(config, stone, water, surface)
         R = quat.to_matrix(state.orientation)
         L = _momentum_from_spin(stone, R, state.angular_velocity)
-        first = deriv(state.position, state.velocity, state.orientation, L)
+        first = deriv(state.position, state.velocity, state.orientation, L, R)
         F, wet_area, tri_forces, tri_centroids = first[1]
         # Height of every vertex above the water surface under it.
         above = vertex_heights(stone, state.position, R, surface)
