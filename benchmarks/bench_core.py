@@ -109,6 +109,9 @@ def _setup_jax(dtype: str):
     """Import JAX with float64 switched on for ``dtype == "f64"``; return the module."""
     import jax
 
+    import jaxskip  # first, as a user would: it sets XLA:CPU's loop option before the backend starts
+
+    _log(f"  jaxskip XLA tuning: {jaxskip.XLA_TUNING}")
     jax.config.update("jax_enable_x64", dtype == "f64")
     # Initialise the backend outside any timing (the "cold" section measures a first call on purpose).
     jax.block_until_ready(jax.jit(lambda x: x + 1)(1.0))
