@@ -1,4 +1,4 @@
-"""Host values to device arrays without compiling anything.
+"""Small array helpers: host values to device arrays without compiling, and reductions over faces.
 
 ``jnp.asarray`` of a NumPy array or a Python float lifts it through a compiled identity (one small
 XLA compile per shape and dtype, ~10 ms each), which a first call in a fresh process pays for every
@@ -15,3 +15,39 @@ import numpy as np
 def float_array(x) -> jax.Array:
     """``x`` (array-like) as a device array of JAX's default float dtype; no compile, no weak type."""
     return jax.device_put(np.asarray(x, dtype=jax.dtypes.canonicalize_dtype(np.float64)))
+
+
+# XLA:CPU rewrites a reduction over more than 32 elements into a padded ``reduce-window`` and a
+# second reduce (its tree-reduction pass, kept for float accuracy). Over a stone's faces (F = 38)
+# under ``vmap`` those windows cost more than the force arithmetic itself. Folding the axis in
+# halves first (``x[:h] + x[h:2h]``, which fuses into the producer) keeps every reduce at or
+# under 32 elements and never builds the window. The sum is a pairwise sum, as accurate as XLA's.
+_FOLD_LIMIT = 32
+
+
+def _fold(x, axis: int, op, reduce):
+    axis = axis % x.ndim
+    n = x.shape[axis]
+    while n > _FOLD_LIMIT:
+        h = n // 2
+        head = op(jax.lax.slice_in_dim(x, 0, h, axis=axis), jax.lax.slice_in_dim(x, h, 2 * h, axis=axis))
+        x = head if n % 2 == 0 else jax.numpy.concatenate([head, jax.lax.slice_in_dim(x, 2 * h, n, axis=axis)], axis)
+        n = x.shape[axis]
+    return reduce(x, axis=axis)
+
+
+def face_sum(x, axis: int = 0) -> jax.Array:
+    """``jnp.sum(x, axis)`` for one axis, folded in halves down to 32 elements first (see above)."""
+    return _fold(x, axis, jax.numpy.add, jax.numpy.sum)
+
+
+def face_min(x) -> jax.Array:
+    """Minimum of every element of ``x`` (F, ...), ``F`` folded first: ``jnp.min(x)``."""
+    x = x.reshape(x.shape[0], -1)
+    return _fold(jax.numpy.min(x, axis=1), 0, jax.numpy.minimum, jax.numpy.min)
+
+
+def face_max(x) -> jax.Array:
+    """Maximum of every element of ``x`` (F, ...), ``F`` folded first: ``jnp.max(x)``."""
+    x = x.reshape(x.shape[0], -1)
+    return _fold(jax.numpy.max(x, axis=1), 0, jax.numpy.maximum, jax.numpy.max)

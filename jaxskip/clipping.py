@@ -5,8 +5,8 @@ Exact clipping (Do, Lee & Ryu, Fig. 3)
 Let the heights of the vertices above the local water surface be
 :math:`\zeta_k = z_k - h_k` (negative = under water). The height is linear
 over the triangle, so the immersed part is the triangle cut by the line
-:math:`\zeta = 0`. Sorting the heights :math:`a \le b \le c` gives the
-paper's three cases:
+:math:`\zeta = 0`. With the heights sorted, :math:`a \le b \le c`, the
+paper's three cases are:
 
 * all under (:math:`c \le 0`): the whole triangle, fraction 1;
 * one vertex above (:math:`b \le 0 < c`): the triangle minus the corner at
@@ -18,6 +18,10 @@ and no vertex under gives 0. Each corner is a triangle similar in
 barycentric terms, so its area fraction is the product of its two edge
 fractions (the paper subtracts triangle areas found by Heron's formula; the
 result is the same). The immersed centroid follows from the same sub-triangles.
+The code does not sort: :func:`clip_weights` finds the lone vertex (the one on
+its side of the line) from the signs and writes every integral as weights on
+the three vertices, so a triangle costs a few scalar operations and the
+vertices enter once, linearly.
 The area fraction is :math:`C^1` in the heights except for a horizontal
 triangle, where it jumps from 0 to 1.
 
@@ -47,37 +51,64 @@ import jax
 import jax.numpy as jnp
 
 
-def _sorted_vertices(z, p):
-    """The heights ``z`` (3,) sorted ascending, ties by index, and the vertices ``p`` (3, 3) in
-    the same order: ``(a, b, c), (pa, pb, pc)``.
+def clip_weights(zeta):
+    r"""Integrals over the part of a triangle with :math:`\zeta < 0`, as weights on its vertices.
 
-    Built from comparisons and selects only (no sort op, no permutation matrix): each vertex's
-    rank counts the vertices below it, and each sorted slot picks the vertex of that rank.
+    The immersed part is the whole triangle, a corner at the one vertex on its side of the
+    water line, or the triangle minus the corner at the one vertex above. Call that lone
+    vertex :math:`k` and the edge fractions to the cut :math:`t_i = \zeta_k/(\zeta_k-\zeta_i)`
+    (:math:`i \ne k`; set :math:`t_k = 0`, :math:`S = \sum_i t_i`). The corner is the
+    triangle :math:`p_k,\ p_k + t_i (p_i - p_k)`, so with :math:`\alpha = \prod_{i\ne k} t_i`
+    its area fraction, :math:`e_i = [i = k]` and :math:`d = -\zeta` the depth,
+
+    .. math::
+        \frac1A\int_{\rm corner} p\,dA &= \tfrac{\alpha}{3}\sum_i \big(t_i + e_i(3-S)\big)\,p_i, \\
+        \frac1A\int_{\rm corner} d\,dA &= \tfrac{\alpha}{3}\,d_k, \qquad
+        \frac1A\int_{\rm corner} p\,d\,dA = \tfrac{\alpha d_k}{12}\sum_i \big(t_i + e_i(4-S)\big)\,p_i,
+
+    (the sub-triangle rules :math:`\int p = A\bar q`, :math:`\int q\,d = \tfrac{A}{12}(\sum_j q_j d_j + \sum_j q_j \sum_j d_j)`)
+    and the whole triangle has weights :math:`\tfrac13` and :math:`(d_i + \sum_j d_j)/12`.
+    Everything is a function of the three heights only: no vertex is sorted or selected, and
+    the vertices enter once, linearly, in :func:`clip_integrals`.
+
+    Parameters
+    ----------
+    zeta : (3,) vertex heights above the cutting level [m] (negative = below).
+
+    Returns
+    -------
+    fraction : () immersed area / triangle area.
+    moment_w : (3,) weights :math:`w_i` with :math:`\frac1A\int_{\zeta<0} p\,dA = \sum_i w_i p_i`.
+    depth : () :math:`\frac1A\int_{\zeta<0} (-\zeta)\,dA` [m].
+    depth_w : (3,) weights [m] with :math:`\frac1A\int_{\zeta<0} p\,(-\zeta)\,dA = \sum_i w_i p_i`.
+
+    Every division is guarded by a double ``where``, so gradients are finite everywhere.
     """
-    z0, z1, z2 = z[0], z[1], z[2]
-    # rank_i = #{j : z_j < z_i, or z_j == z_i and j < i}: distinct, so the ranks are a permutation.
-    r0 = (z1 < z0).astype(jnp.int32) + (z2 < z0).astype(jnp.int32)
-    r1 = (z0 <= z1).astype(jnp.int32) + (z2 < z1).astype(jnp.int32)
-
-    def pick(k, v0, v1, v2):
-        return jnp.where(r0 == k, v0, jnp.where(r1 == k, v1, v2))
-
-    heights = tuple(pick(k, z0, z1, z2) for k in range(3))
-    vertices = tuple(pick(k, p[0], p[1], p[2]) for k in range(3))
-    return heights, vertices
-
-
-def _tri_integrals(alpha, q, d):
-    """Integrals over a sub-triangle, divided by the full triangle's area.
-
-    ``alpha``: sub-triangle area / full area; ``q`` (3, 3): its vertices [m];
-    ``d`` (3,): a linear function at its vertices (the depth below a level) [m].
-    Returns ``(∫1, ∫p, ∫d, ∫p d) / A`` with shapes ``(), (3,), (), (3,)``.
-    """
-    sq = jnp.sum(q, axis=0)
-    sd = jnp.sum(d)
-    i_pd = alpha * (jnp.sum(q * d[:, None], axis=0) + sq * sd) / 12.0
-    return alpha, alpha * sq / 3.0, alpha * sd / 3.0, i_pd
+    under = zeta < 0.0
+    n_under = jnp.sum(under.astype(jnp.int32))
+    corner_under = n_under == 1          # the immersed part is the corner at the one vertex under
+    corner_above = n_under == 2          # the triangle minus the corner at the one vertex above
+    lone = jnp.where(corner_under, under, corner_above & ~under)        # e_i
+    active = corner_under | corner_above
+    z_k = jnp.sum(jnp.where(lone, zeta, 0.0))
+    # i != k lies on the other side of the line, so z_k - z_i is nonzero (|z_k - z_i| >= |z_k|).
+    other = active & ~lone
+    t = jnp.where(other, z_k / jnp.where(other, z_k - zeta, 1.0), 0.0)
+    s = jnp.sum(t)
+    e = lone.astype(zeta.dtype)
+    alpha = jnp.where(active, jnp.prod(t + e), 0.0)
+    d_k = -z_k
+    corner = (
+        alpha,
+        alpha / 3.0 * (t + e * (3.0 - s)),
+        alpha * d_k / 3.0,
+        alpha * d_k / 12.0 * (t + e * (4.0 - s)),
+    )
+    d = -zeta
+    full = (1.0, jnp.full(3, 1.0 / 3.0, zeta.dtype), jnp.sum(d) / 3.0, (d + jnp.sum(d)) / 12.0)
+    base = (n_under >= 2).astype(zeta.dtype)
+    sign = jnp.where(corner_under, 1.0, jnp.where(corner_above, -1.0, 0.0))
+    return tuple(base * f + sign * c for f, c in zip(full, corner))
 
 
 def clip_integrals(p, zeta):
@@ -95,38 +126,10 @@ def clip_integrals(p, zeta):
     depth : () :math:`\frac1A\int_{\zeta<0} (-\zeta)\,dA` [m].
     depth_moment : (3,) :math:`\frac1A\int_{\zeta<0} p\,(-\zeta)\,dA` [m^2].
 
-    Gradients are finite everywhere: every division is guarded by a double
-    ``where`` so that the branch not taken never divides by zero.
+    From :func:`clip_weights`; gradients are finite everywhere.
     """
-    (a, b, c), (pa, pb, pc) = _sorted_vertices(zeta, p)
-
-    all_under = c <= 0.0
-    one_above = (b <= 0.0) & (c > 0.0)
-    two_above = (a < 0.0) & (b > 0.0)
-
-    full = _tri_integrals(1.0, jnp.stack([pa, pb, pc]), -jnp.stack([a, b, c]))
-
-    # Corner at the top vertex c (one vertex above): c - a >= c > 0 and c - b >= c > 0.
-    ca = jnp.where(one_above, c - a, 1.0)
-    cb = jnp.where(one_above, c - b, 1.0)
-    t_a, t_b = c / ca, c / cb
-    corner_c = _tri_integrals(
-        jnp.where(one_above, t_a * t_b, 0.0),
-        jnp.stack([pc, pc + (pa - pc) * t_a, pc + (pb - pc) * t_b]),
-        jnp.stack([-c, 0.0 * c, 0.0 * c]),
-    )
-    # Corner at the bottom vertex a (two vertices above): b - a > -a > 0 and c - a > 0.
-    ba = jnp.where(two_above, b - a, 1.0)
-    ca2 = jnp.where(two_above, c - a, 1.0)
-    s_b, s_c = -a / ba, -a / ca2
-    corner_a = _tri_integrals(
-        jnp.where(two_above, s_b * s_c, 0.0),
-        jnp.stack([pa, pa + (pb - pa) * s_b, pa + (pc - pa) * s_c]),
-        jnp.stack([-a, 0.0 * a, 0.0 * a]),
-    )
-    use_full = (all_under | one_above).astype(p.dtype)
-    # Corner weights are zero outside their case, so the three terms simply add up.
-    return tuple(use_full * f - cc + cq for f, cc, cq in zip(full, corner_c, corner_a))
+    frac, w, depth, dw = clip_weights(zeta)
+    return frac, jnp.sum(w[:, None] * p, axis=0), depth, jnp.sum(dw[:, None] * p, axis=0)
 
 
 def immersed_area(p, surface, sharpness=None):

@@ -42,7 +42,7 @@ import jax
 import jax.numpy as jnp
 
 from . import clipping, quaternion
-from ._arrays import float_array
+from ._arrays import face_sum, float_array
 from ._checks import ParameterError, check_choice, check_positive, check_real
 
 LAWS = ("seed", "bocquet")
@@ -240,8 +240,8 @@ def body_triangle_forces(model: ForceModel, params: WaterParams, stone, position
 def body_total_force(forces, centroid, area, R):
     """Sum :func:`body_triangle_forces`' output and turn it to the world frame: force (3,) [N],
     torque (3,) about the centre of mass [N m], wetted area () [m^2]."""
-    torque = jnp.sum(jnp.cross(centroid, forces), axis=0)
-    return quaternion.rotate(R, jnp.sum(forces, axis=0)), quaternion.rotate(R, torque), jnp.sum(area)
+    torque = face_sum(jnp.cross(centroid, forces))
+    return quaternion.rotate(R, face_sum(forces)), quaternion.rotate(R, torque), face_sum(area)
 
 
 def triangle_forces(model: ForceModel, params: WaterParams, stone, position, R, velocity, omega, surface):

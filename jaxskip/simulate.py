@@ -47,6 +47,7 @@ import jax.numpy as jnp
 import numpy as np
 
 from . import quaternion as quat
+from ._arrays import face_max, face_min
 from ._checks import check_choice, check_int, check_positive, check_range
 from .body import RigidStone
 from .forces import ForceModel, WaterParams, body_total_force, body_triangle_forces, flat_surface, vertex_heights
@@ -555,8 +556,8 @@ def make_step(config: SimConfig, surface=flat_surface, push: bool = False):
         F, wet_area, tri_forces, tri_centroids = first[1]
         # Height of every vertex above the water surface under it.
         above = vertex_heights(stone, state.position, R, surface)
-        gap = jnp.min(above)
-        top = jnp.max(above)
+        gap = face_min(above)
+        top = face_max(above)
         dt, dry = _step_length(config, stone, water, state, gap, wet_area)
 
         # --- bookkeeping at the state at the start of the step ---
