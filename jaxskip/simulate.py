@@ -595,31 +595,36 @@ def make_step(config: SimConfig, surface=flat_surface, push: bool = False):
         start_row = jnp.concatenate([t[None], state.position, tilt[None], row[5:]])
         end_row = jnp.concatenate([row[:5], tr.leave])
         row = jnp.where(log_new, start_row, jnp.where(log_end, end_row, row))
-        tr1 = Tracker(
-            counters=counters,
-            leave=jnp.where(leave, jnp.stack([t, tilt]), tr.leave),
-            log=tr.log.at[row_idx].set(row),
-        )
+        # The log itself is written in ``step``, outside the branch (see there).
+        tr1 = Tracker(counters=counters, leave=jnp.where(leave, jnp.stack([t, tilt]), tr.leave), log=None)
 
         # --- integrate; a stone out of play keeps its state ---
         x1, v1, q1, w1 = _integrate(config, stone, water, surface, state, R, L, dt, first, dry)
         new = StoneState(x1, v1, q1, w1, t + dt)
         state1 = jax.tree_util.tree_map(lambda a, b: jnp.where(alive, a, b), new, state)
         rec = Record(t, state.position, state.orientation, wet_area, F, gap) if config.record else None
-        if push:
-            return (state1, tr1), rec, (tri_forces, tri_centroids)
-        return (state1, tr1), rec
+        pushed = (tri_forces, tri_centroids) if push else None
+        return (state1, tr1), (row_idx, row), rec, pushed
 
     def frozen_step(carry, stone, water):
-        rec = _frozen_record(carry[0]) if config.record else None
-        if push:
-            zero = jnp.zeros_like(stone.normals) * carry[0].time
-            return carry, rec, (zero, zero)
-        return carry, rec
+        state, tr = carry
+        rec = _frozen_record(state) if config.record else None
+        zero = jnp.zeros_like(stone.normals) * state.time
+        row_idx = jnp.zeros((), jnp.int32)
+        return (state, dataclasses.replace(tr, log=None)), (row_idx, tr.log[row_idx]), rec, \
+            ((zero, zero) if push else None)
 
     def step(carry, stone: RigidStone, water: WaterParams):
-        # Out of play: skip the work (a real branch for one throw; under vmap it becomes a select).
-        return jax.lax.cond(carry[1].alive, live_step, frozen_step, carry, stone, water)
+        # Out of play: skip the work (a real branch for one throw; under vmap it becomes a select
+        # of both branches' outputs). The (K, 7) contact log is not an output of the branch: each
+        # branch returns the one row to write, and the row is written here. Under vmap a select
+        # of the whole log cost a copy of it every step (a quarter of a batched step).
+        (state1, tr1), (row_idx, row), rec, pushed = jax.lax.cond(
+            carry[1].alive, live_step, frozen_step, carry, stone, water)
+        tr1 = dataclasses.replace(tr1, log=carry[1].log.at[row_idx].set(row))
+        if push:
+            return (state1, tr1), rec, pushed
+        return (state1, tr1), rec
 
     return step
 
