@@ -165,17 +165,33 @@ def immersed_area_from_heights(p, zeta, sharpness=None):
     ``p`` (3, 3) may be in any frame (the body frame, say): the clipping depends on
     the heights only, and the centroid comes out in the frame of ``p``.
     """
-    if sharpness is None:
-        frac, moment, _, _ = clip_integrals(p, zeta)
-    else:
-        half = 0.5 / sharpness
-        _, _, d_hi, m_hi = clip_integrals(p, zeta - half)
-        _, _, d_lo, m_lo = clip_integrals(p, zeta + half)
-        frac = (d_hi - d_lo) * sharpness
-        moment = (m_hi - m_lo) * sharpness
+    frac, moment = immersed_moment_from_heights(p, zeta, sharpness)
     wet = frac > 1e-14
     centroid = jnp.where(wet, moment / jnp.where(wet, frac, 1.0), jnp.mean(p, axis=0))
     return frac, centroid
+
+
+def immersed_moment_from_heights(p, zeta, sharpness=None):
+    r"""Immersed area fraction and first moment of one triangle, without the centroid's division.
+
+    ``p`` (3, 3) vertices [m] in any frame, ``zeta`` (3,) their heights above the water [m],
+    ``sharpness`` as in :func:`immersed_area`. Returns ``fraction`` () (immersed area / area)
+    and ``moment`` (3,) :math:`\frac1A\int_{\rm immersed} p\,dA` [m], so that the centroid is
+    ``moment / fraction``. A force proportional to the immersed area, :math:`f = S\,g`, has the
+    torque :math:`G \times f = A\,(\text{moment} \times g)`: no division, and no guard.
+    """
+    if sharpness is None:
+        frac, moment, _, _ = clip_integrals(p, zeta)
+        return frac, moment
+    half = 0.5 / sharpness
+    _, _, d_hi, m_hi = clip_integrals(p, zeta - half)
+    _, _, d_lo, m_lo = clip_integrals(p, zeta + half)
+    return (d_hi - d_lo) * sharpness, (m_hi - m_lo) * sharpness
+
+
+def immersed_moments_from_heights(p, zeta, sharpness=None):
+    """:func:`immersed_moment_from_heights` over a mesh: ``p`` (F, 3, 3), ``zeta`` (F, 3) -> (F,), (F, 3)."""
+    return jax.vmap(lambda pi, zi: immersed_moment_from_heights(pi, zi, sharpness))(p, zeta)
 
 
 def immersed_areas_from_heights(p, zeta, sharpness=None):

@@ -237,6 +237,34 @@ def body_triangle_forces(model: ForceModel, params: WaterParams, stone, position
     return forces, centroid, area
 
 
+def body_water_load(model: ForceModel, params: WaterParams, stone, position, R, velocity, omega, surface):
+    r"""Total water force, torque and wetted area: the simulator's kernel (arguments as :func:`water_force`).
+
+    The same sums as :func:`body_total_force` of :func:`body_triangle_forces`, without forming
+    each triangle's force and centroid. With ``velocity="body"`` every triangle sees the one
+    velocity :math:`R^\top v`, and both laws are linear in the immersed area, so triangle
+    :math:`i` with immersed fraction :math:`\phi_i` carries :math:`\phi_i g_i`, where
+    :math:`g_i` is its force were it wholly immersed; with the first moment
+    :math:`m_i = \frac{1}{A_i}\int p\,dA` (:func:`jaxskip.clipping.immersed_moment_from_heights`)
+
+    .. math:: F = \sum_i \phi_i\,g_i, \qquad \tau = \sum_i m_i \times g_i,
+
+    since the centroid is :math:`m_i/\phi_i`. No centroid is divided out (no guard, a
+    smoother reverse pass). ``velocity="local"`` needs the centroids: it goes through
+    :func:`body_triangle_forces`. Returns force (3,) [N] and torque (3,) about the centre of
+    mass [N m] in the world frame, and the wetted area () [m^2].
+    """
+    if model.velocity == "local":
+        return body_total_force(*body_triangle_forces(model, params, stone, position, R, velocity, omega, surface), R)
+    zeta = vertex_heights(stone, position, R, surface)
+    frac, moment = clipping.immersed_moments_from_heights(stone.triangles, zeta, model.sharpness)
+    v_body = quaternion.rotate_inverse(R, velocity)
+    whole = jax.vmap(lambda n, a: triangle_force(model, params, n, a, v_body))(stone.normals, stone.areas)
+    force = face_sum(frac[:, None] * whole)
+    torque = face_sum(jnp.cross(moment, whole))
+    return quaternion.rotate(R, force), quaternion.rotate(R, torque), face_sum(frac * stone.areas)
+
+
 def body_total_force(forces, centroid, area, R):
     """Sum :func:`body_triangle_forces`' output and turn it to the world frame: force (3,) [N],
     torque (3,) about the centre of mass [N m], wetted area () [m^2]."""
@@ -272,8 +300,7 @@ def water_force(model: ForceModel, params: WaterParams, stone, position, R, velo
     -------
     force : (3,) [N]; torque : (3,) about the centre of mass [N m]; wetted : () immersed area [m^2].
     """
-    parts = body_triangle_forces(model, params, stone, position, R, velocity, omega, surface)
-    return body_total_force(*parts, R)
+    return body_water_load(model, params, stone, position, R, velocity, omega, surface)
 
 
 def total_force(forces, centroid, area, position):

@@ -50,7 +50,8 @@ from . import quaternion as quat
 from ._arrays import face_max, face_min
 from ._checks import check_choice, check_int, check_positive, check_range
 from .body import RigidStone
-from .forces import ForceModel, WaterParams, body_total_force, body_triangle_forces, flat_surface, vertex_heights
+from .forces import (ForceModel, WaterParams, body_total_force, body_triangle_forces, body_water_load, flat_surface,
+                     vertex_heights)
 from .throw import Throw, attitude
 
 INTEGRATORS = ("euler", "rk4")
@@ -317,11 +318,13 @@ def _momentum_from_spin(stone, R, omega):
     return quat.rotate(R, jnp.diagonal(stone.inertia) * quat.rotate_inverse(R, omega))
 
 
-def _dynamics(config: SimConfig, stone: RigidStone, water: WaterParams, surface):
+def _dynamics(config: SimConfig, stone: RigidStone, water: WaterParams, surface, per_face: bool = False):
     """Time derivative of (x, v, q, L) and the water force, for the integrators.
 
     The semi-implicit Euler step uses only the accelerations, so there the quaternion's rate
-    (and the angular velocity, unless the force law needs it) is not formed.
+    (and the angular velocity, unless the force law needs it) is not formed. ``per_face``:
+    also return each triangle's force and immersed centroid in the world frame (the coupled
+    water's push); otherwise only the sums are formed (:func:`jaxskip.forces.body_water_load`).
     """
     fixed = config.attitude == "fixed"
     need_qdot = config.integrator != "euler" and not fixed
@@ -330,11 +333,15 @@ def _dynamics(config: SimConfig, stone: RigidStone, water: WaterParams, surface)
     def deriv(x, v, q, L, R=None):
         R = quat.to_matrix(q) if R is None else R
         omega = _spin_from_momentum(stone, R, L) if need_omega else jnp.zeros(3) * L
-        parts = body_triangle_forces(config.force, water, stone, x, R, v, omega, surface)
-        F, tau, wet = body_total_force(*parts, R)
+        if per_face:
+            parts = body_triangle_forces(config.force, water, stone, x, R, v, omega, surface)
+            F, tau, wet = body_total_force(*parts, R)
+            # + per-triangle forces and centroids in the world frame (the coupled water's push)
+            aux = (F, wet, quat.rotate(R, parts[0]), quat.rotate(R, parts[1]) + x[None, :])
+        else:
+            F, tau, wet = body_water_load(config.force, water, stone, x, R, v, omega, surface)
+            aux = (F, wet, None, None)
         a = F / stone.mass + _gravity(water)
-        # + per-triangle forces and centroids in the world frame (the coupled water; unused otherwise)
-        aux = (F, wet, quat.rotate(R, parts[0]), quat.rotate(R, parts[1]) + x[None, :])
         if fixed:
             return (v, a, jnp.zeros(4) * q, jnp.zeros(3) * L), aux
         if not need_qdot:
@@ -549,7 +556,7 @@ def make_step(config: SimConfig, surface=flat_surface, push: bool = False):
 
     def live_step(carry, stone: RigidStone, water: WaterParams):
         state, tr = carry
-        deriv = _dynamics(config, stone, water, surface)
+        deriv = _dynamics(config, stone, water, surface, per_face=push)
         R = quat.to_matrix(state.orientation)
         L = _momentum_from_spin(stone, R, state.angular_velocity)
         first = deriv(state.position, state.velocity, state.orientation, L, R)
