@@ -131,11 +131,14 @@ def test_area_gradient_finite_at_zero_immersion():
 
 
 @pytest.mark.parametrize("law,velocity,sharpness", [("bocquet", "body", None), ("seed", "local", None),
-                                                    ("bocquet", "local", 400.0)])
+                                                    ("bocquet", "local", 400.0), ("seed", "body", None),
+                                                    ("bocquet", "body", 400.0)])
 def test_body_frame_force_equals_the_world_frame_sum(paper, water, law, velocity, sharpness):
     """The simulator clips and loads each triangle in the body frame (constant vertices, one
     rotated velocity); the law is rotation-invariant, so this must equal clipping the world-frame
-    triangles and summing the world-frame forces, on flat and on rippled water."""
+    triangles and summing the world-frame forces, on flat and on rippled water. With
+    ``velocity="body"`` the sums come from first moments (``forces.body_water_load``: no
+    per-triangle centroid), so this also checks that algebra for both laws and both clips."""
     from jaxskip import quaternion as quat
     from jaxskip.forces import ForceModel, flat_surface, total_force, triangle_force, water_force, world_triangles
 
