@@ -41,13 +41,16 @@ def face_sum(x, axis: int = 0) -> jax.Array:
     return _fold(x, axis, jax.numpy.add, jax.numpy.sum)
 
 
+def _face_extreme(x, reduce, op):
+    x = x.reshape(x.shape[0], -1)
+    return _fold(reduce(x, axis=1), 0, op, reduce)
+
+
 def face_min(x) -> jax.Array:
     """Minimum of every element of ``x`` (F, ...), ``F`` folded first: ``jnp.min(x)``."""
-    x = x.reshape(x.shape[0], -1)
-    return _fold(jax.numpy.min(x, axis=1), 0, jax.numpy.minimum, jax.numpy.min)
+    return _face_extreme(x, jax.numpy.min, jax.numpy.minimum)
 
 
 def face_max(x) -> jax.Array:
     """Maximum of every element of ``x`` (F, ...), ``F`` folded first: ``jnp.max(x)``."""
-    x = x.reshape(x.shape[0], -1)
-    return _fold(jax.numpy.max(x, axis=1), 0, jax.numpy.maximum, jax.numpy.max)
+    return _face_extreme(x, jax.numpy.max, jax.numpy.maximum)

@@ -9,7 +9,7 @@ dispatch. Raising that threshold to :data:`THRESHOLD` (100 MB) made, on the 2-co
 development machine (``benchmarks/README.md``, session 11): one default throw 9-10 ms
 -> 3.4-4.1 ms, its gradient 154 ms -> 18-27 ms, the 64² and 128² water steps ~2x faster,
 and a rollout's compile 0.3-0.8 s shorter (a fresh process's first ``simulate()``
-within the noise); wide batches (arithmetic-bound) and 256² water
+within the noise); wide batches (bound by their kernels' memory traffic) and 256² water
 grids are unchanged. Results change at rounding level only.
 
 The option travels in ``XLA_FLAGS``, which XLA reads once, when JAX first starts its CPU
