@@ -25,6 +25,12 @@ XLA_TUNING: str = _xla.apply()
 ``"applied"``, ``"opted-out"`` (``JAXSKIP_XLA_TUNING=0``), ``"user"`` (``XLA_FLAGS`` sets
 ``--xla_backend_extra_options`` itself) or ``"too-late"`` (JAX's backend had started)."""
 
+CPU_DEVICES: str = _xla.apply_cpu_devices()
+"""What ``import jaxskip`` did about JAX's CPU devices (see :func:`jaxskip._xla.apply_cpu_devices`):
+``"applied"`` (one device per usable core, so batches and sweeps use every core),
+``"opted-out"`` (``JAXSKIP_CPU_DEVICES=1``), ``"user"`` (the count was set already),
+``"single-core"`` or ``"too-late"`` (JAX's backend had started)."""
+
 from ._checks import ParameterError  # noqa: E402
 from .api import Contact, ThrowResult, resolve_stone, simulate  # noqa: E402
 from .batch import BatchResult, simulate_batch  # noqa: E402
@@ -37,7 +43,7 @@ from .throw import Throw  # noqa: E402
 from .water import WaterGrid, WaterState, height_at, make_water_step, run_water, stable_dt, still_water  # noqa: E402
 
 __all__ = [
-    "BUILTIN_STONES", "BatchResult", "XLA_TUNING", "Contact", "ForceModel", "MassProperties", "MeshError", "OUTCOMES", "ParameterError",
+    "BUILTIN_STONES", "BatchResult", "CPU_DEVICES", "XLA_TUNING", "Contact", "ForceModel", "MassProperties", "MeshError", "OUTCOMES", "ParameterError",
     "Record", "RigidStone", "SimConfig", "StoneState", "Throw", "ThrowResult", "Tracker", "TriMesh", "WaterParams",
     "clanet_disk", "disk", "ellipsoid_pebble", "initial_state", "irregular_pebble", "load_stone", "make_step",
     "mass_properties", "paper_stone", "read_obj", "resolve_stone", "rigid_stone", "rollout", "rollout_jit",

@@ -307,13 +307,13 @@ def _new_tracker(k: int, dtype) -> Tracker:
 
 
 def _spin_from_momentum(stone, R, L):
-    """Angular velocity (3,) [rad/s] from the world angular momentum ``L`` (3,) [kg m^2/s]:
+    r"""Angular velocity (3,) [rad/s] from the world angular momentum ``L`` (3,) [kg m^2/s]:
     :math:`\omega = R I^{-1} R^T L` (the inertia is diagonal in the body frame)."""
     return quat.rotate(R, jnp.diagonal(stone.inv_inertia) * quat.rotate_inverse(R, L))
 
 
 def _momentum_from_spin(stone, R, omega):
-    """World angular momentum (3,) [kg m^2/s] of the angular velocity ``omega`` (3,) [rad/s]:
+    r"""World angular momentum (3,) [kg m^2/s] of the angular velocity ``omega`` (3,) [rad/s]:
     :math:`L = R I R^T \omega`."""
     return quat.rotate(R, jnp.diagonal(stone.inertia) * quat.rotate_inverse(R, omega))
 

@@ -348,24 +348,35 @@ def _clamp(grid: WaterGrid, volume, flows, dt, block=None):
     ``block = (i0, j0, bx, by)`` (``i0, j0`` may be traced, ``bx, by`` static):
     compute the factors only for the columns ``[i0:i0+bx, j0:j0+by]``; every other
     column keeps factor 1. Valid when no column outside the block is at risk (the
-    caller checks).
+    caller checks). The block must keep one column from the grid's edge
+    (``1 <= i0``, ``i0 + bx <= nx - 1``, the same along y): the work is then done on
+    the block and its one-column ring alone — the pipes of that ring are cut out of
+    the flows, scaled and written back in place — and costs the block, not the grid.
     """
     smooth = grid.clamp == "smooth"
     k = float(grid.sharpness)
-    parts = _gather_out(*flows)        # flow out of (i, j) towards each neighbour (negative: in)
-    out = sum(jnp.maximum(p, 0.0) for p in parts)
-    incoming = tuple(jnp.maximum(-p, 0.0) for p in parts)
     if block is not None:
         i0, j0, bx, by = block
-        cut = lambda a: jax.lax.dynamic_slice(a, (i0, j0), (bx, by))  # noqa: E731
-        volume, out, incoming = cut(volume), cut(out), tuple(cut(a) for a in incoming)
+        corner = (i0 - 1, j0 - 1)       # the ring's first column
+        cut = lambda q, shape: jax.lax.dynamic_slice(q, corner, shape)  # noqa: E731
+        # The pipes of the (bx + 2) x (by + 2) columns of the block and its ring, between them.
+        sub = (cut(flows[0], (bx + 1, by + 2)), cut(flows[1], (bx + 2, by + 1)),
+               cut(flows[2], (bx + 1, by + 1)), cut(flows[3], (bx + 1, by + 1)))
+        # Exact for the block's columns (all their pipes are in ``sub``); the ring's are not used.
+        parts = tuple(p[1:-1, 1:-1] for p in _gather_out(*sub))
+        volume = jax.lax.dynamic_slice(volume, (i0, j0), (bx, by))
+    else:
+        parts = _gather_out(*flows)    # flow out of (i, j) towards each neighbour (negative: in)
+    out = sum(jnp.maximum(p, 0.0) for p in parts)
+    incoming = tuple(jnp.maximum(-p, 0.0) for p in parts)
     need = dt * out * (1.0 + _MARGIN)     # aim a hair above zero: round-off cannot dip below
     s = _ratio_factor(volume, need, smooth, k)
     for _ in range(grid.clamp_iterations):
         s = _ratio_factor(volume + dt * _inflow(incoming, s, 1.0 if block is not None else 0.0), need, smooth, k)
-    if block is not None:
-        s = jax.lax.dynamic_update_slice(jnp.ones(grid.shape, s.dtype), s, (i0, j0))
-    return _scale_pipes(*flows, s)
+    if block is None:
+        return _scale_pipes(*flows, s)
+    scaled = _scale_pipes(*sub, jnp.pad(s, 1, constant_values=1.0))   # the ring keeps factor 1
+    return tuple(jax.lax.dynamic_update_slice(q, q_sub, corner) for q, q_sub in zip(flows, scaled))
 
 
 def _sponge_rate(grid: WaterGrid):
@@ -391,11 +402,13 @@ def make_water_step(grid: WaterGrid, clamp_blocks: tuple = ()):
 
     ``clamp_blocks = ((bx, by), ...)`` (columns, static, smallest first): the
     clamp bites only where a column can run short (under and behind a stone).
-    When all such columns fit in a block of ``bx`` × ``by`` columns, the clamp's
-    passes run on the first such block alone, placed around them (outside it
-    every factor is 1 to round-off, as when the clamp is skipped); when they fit
-    in none, on the whole grid. The same answer, a fraction of the cost on a
-    large grid. ``()``: always the whole grid.
+    When all such columns fit in a block of ``bx`` × ``by`` columns placed around
+    them at least one column from the grid's edge, the clamp's passes run on the
+    first such block alone and touch only its pipes and those of its one-column
+    ring (outside it every factor is 1 to round-off, as when the clamp is
+    skipped); when they fit in none, on the whole grid. The same answer, a
+    fraction of the cost on a large grid (a block within a column of the grid's
+    side is skipped: the whole grid does its work). ``()``: always the whole grid.
 
     >>> import jax.numpy as jnp
     >>> grid = WaterGrid(shape=(16, 16), spacing=0.01, depth=0.05)
@@ -422,13 +435,16 @@ def make_water_step(grid: WaterGrid, clamp_blocks: tuple = ()):
                 or not (1 <= block[0] <= nx and 1 <= block[1] <= ny)):
             raise ParameterError(f"clamp_blocks: each block must be a tuple of 2 ints (bx, by) with "
                                  f"1 <= bx <= {nx} and 1 <= by <= {ny} (the grid's shape), got {block!r}")
+    # A block keeps a column from either edge (its ring): one that cannot is the whole grid's work.
+    blocks = tuple(b for b in clamp_blocks if b[0] <= nx - 2 and b[1] <= ny - 2)
 
     def _place(any_rows, size, n):
-        """First index of a ``size`` block around the True entries of ``any_rows``, and whether they fit."""
+        """First index of a ``size`` block around the True entries of ``any_rows``, one entry from
+        either end (:func:`_clamp`'s ring), and whether they fit in it."""
         lo = jnp.argmax(any_rows)
         hi = n - 1 - jnp.argmax(any_rows[::-1])
-        start = jnp.clip(lo - (size - (hi - lo + 1)) // 2, 0, n - size)
-        return start, hi - lo < size
+        start = jnp.clip(lo - (size - (hi - lo + 1)) // 2, 1, n - 1 - size)
+        return start, (hi - lo < size) & (lo >= 1) & (hi <= n - 2)
 
     def step(state: WaterState, pressure, dt=None) -> WaterState:
         dt = grid.time_step if dt is None else dt
@@ -448,18 +464,18 @@ def make_water_step(grid: WaterGrid, clamp_blocks: tuple = ()):
             out, _ = _split(*flows)
             margin = (1e-16 * grid.sharpness) ** (-1.0 / grid.sharpness) if grid.clamp == "smooth" else 1.0
             risk = margin * dt * out >= volume
-            if not clamp_blocks:
+            if not blocks:
                 flows = jax.lax.cond(jnp.any(risk), lambda f: _clamp(grid, volume, f, dt), lambda f: f, flows)
             else:
                 rows, cols = jnp.any(risk, axis=1), jnp.any(risk, axis=0)
                 branches, fits = [lambda f: f], []
-                for bx, by in clamp_blocks:
+                for bx, by in blocks:
                     (i0, fit_x), (j0, fit_y) = _place(rows, bx, nx), _place(cols, by, ny)
                     branches.append(lambda f, blk=(i0, j0, bx, by): _clamp(grid, volume, f, dt, blk))
                     fits.append(fit_x & fit_y)
                 branches.append(lambda f: _clamp(grid, volume, f, dt))
-                which = len(clamp_blocks) + 1                 # none fits: the whole grid
-                for b in reversed(range(len(clamp_blocks))):  # else the smallest block that fits
+                which = len(blocks) + 1                 # none fits: the whole grid
+                for b in reversed(range(len(blocks))):  # else the smallest block that fits
                     which = jnp.where(fits[b], b + 1, which)
                 which = jnp.where(jnp.any(risk), which, 0)
                 flows = jax.lax.switch(which, branches, flows)

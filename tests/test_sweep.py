@@ -88,22 +88,29 @@ def test_folder_of_another_sweep_is_refused(tmp_path):
         run_sweep(make_spec("domain", tilts=[25.0], attacks=[20.0], speed=3.5), tmp_path)
 
 
-def test_four_host_devices_equal_one(tmp_path):
-    """The lanes sharded over 4 forced CPU devices give the same sweep file as 1 device."""
-    spec = make_spec("domain", tilts=[10.0, 30.0, 50.0], attacks=[10.0, 40.0], speed=3.5)
-    run_sweep(spec, tmp_path / "one")
+def _sweep_in_subprocess(out, env_updates, devices):
     code = (
         "import jax, sys; jax.config.update('jax_enable_x64', True)\n"
-        "assert len(jax.local_devices()) == 4, jax.local_devices()\n"
         "from optimize import make_spec, run_sweep\n"
+        f"assert len(jax.local_devices()) == {devices}, jax.local_devices()\n"
         "spec = make_spec('domain', tilts=[10.0, 30.0, 50.0], attacks=[10.0, 40.0], speed=3.5)\n"
         "run_sweep(spec, sys.argv[1])\n"
     )
-    env = dict(os.environ, XLA_FLAGS="--xla_force_host_platform_device_count=4", JAX_PLATFORMS="cpu",
+    env = {k: v for k, v in os.environ.items() if k not in ("XLA_FLAGS", "JAXSKIP_CPU_DEVICES")}
+    env.update(env_updates, JAX_PLATFORMS="cpu",
                PYTHONPATH=os.pathsep.join(filter(None, [str(ROOT), os.environ.get("PYTHONPATH")])))
-    subprocess.run([sys.executable, "-c", code, str(tmp_path / "four")], check=True, env=env, cwd=ROOT, timeout=600)
-    one = json.loads((tmp_path / "one" / "result.json").read_text())
-    four = json.loads((tmp_path / "four" / "result.json").read_text())
+    subprocess.run([sys.executable, "-c", code, str(out)], check=True, env=env, cwd=ROOT, timeout=600)
+    return json.loads((out / "result.json").read_text())
+
+
+def test_four_host_devices_equal_one(tmp_path):
+    """The lanes sharded over 4 forced CPU devices give the same sweep file as 1 device.
+
+    Both run in fresh interpreters: ``import jaxskip`` asks JAX for one CPU device per core, so
+    the single-device run opts out (``JAXSKIP_CPU_DEVICES=1``).
+    """
+    one = _sweep_in_subprocess(tmp_path / "one", {"JAXSKIP_CPU_DEVICES": "1"}, 1)
+    four = _sweep_in_subprocess(tmp_path / "four", {"XLA_FLAGS": "--xla_force_host_platform_device_count=4"}, 4)
     assert one["bounces"] == four["bounces"]
     np.testing.assert_allclose(np.array(four["first_contact_time"], dtype=float),
                                np.array(one["first_contact_time"], dtype=float), rtol=0, atol=1e-12)

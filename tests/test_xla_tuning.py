@@ -1,4 +1,5 @@
-"""``import jaxskip`` turns on XLA:CPU's single-function compilation of small loops (jaxskip._xla).
+"""``import jaxskip`` turns on XLA:CPU's single-function compilation of small loops and asks for one
+JAX CPU device per core (jaxskip._xla).
 
 Each case runs in a fresh interpreter: XLA reads ``XLA_FLAGS`` once per process.
 """
@@ -23,12 +24,14 @@ config = sim.SimConfig(record=False, max_steps=100)
 hlo = jax.jit(lambda t: sim.rollout(config, t, stone, water)[0].position).lower(
     jaxskip.Throw.from_degrees()).compile().as_text()
 print(json.dumps({"status": jaxskip.XLA_TUNING, "flags": os.environ.get("XLA_FLAGS", ""),
-                  "small_calls": hlo.count("xla_cpu_small_call")}))
+                  "small_calls": hlo.count("xla_cpu_small_call"),
+                  "devices": jaxskip.CPU_DEVICES, "n_devices": len(jax.devices("cpu")),
+                  "cores": jaxskip._xla.usable_cores()}))
 """
 
 
 def _probe(env_updates, mode="normal"):
-    env = {k: v for k, v in os.environ.items() if k not in ("XLA_FLAGS", "JAXSKIP_XLA_TUNING")}
+    env = {k: v for k, v in os.environ.items() if k not in ("XLA_FLAGS", "JAXSKIP_XLA_TUNING", "JAXSKIP_CPU_DEVICES")}
     env.update(env_updates)
     root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
     env["PYTHONPATH"] = root + os.pathsep + env.get("PYTHONPATH", "")
@@ -57,3 +60,21 @@ def test_opt_out_and_user_flags_are_respected():
 def test_a_backend_started_first_is_reported():
     r = _probe({}, "late")
     assert r["status"] == "too-late" and r["small_calls"] == 0
+
+
+def test_one_cpu_device_per_core():
+    r = _probe({})
+    if r["cores"] == 1:
+        assert r["devices"] == "single-core" and r["n_devices"] == 1
+    else:
+        assert r["devices"] == "applied" and r["n_devices"] == r["cores"]
+    assert _probe({"JAXSKIP_CPU_DEVICES": "3"})["n_devices"] == 3
+
+
+def test_cpu_device_opt_out_and_user_choice():
+    off = _probe({"JAXSKIP_CPU_DEVICES": "1"})
+    assert off["devices"] == "opted-out" and off["n_devices"] == 1
+    user = _probe({"XLA_FLAGS": "--xla_force_host_platform_device_count=3"})
+    assert user["devices"] == "user" and user["n_devices"] == 3
+    late = _probe({}, "late")
+    assert late["n_devices"] == 1 and late["devices"] in ("too-late", "single-core")
