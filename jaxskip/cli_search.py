@@ -35,6 +35,10 @@ def add_parsers(sub, number) -> None:
     o.add_argument("--iterations", type=int, default=20, metavar="N", help="optimiser steps (default 20)")
     o.add_argument("--learning-rate", type=number("--learning-rate"), default=0.3, metavar="LR",
                    help="Adam step in the unconstrained coordinates (default 0.3)")
+    o.add_argument("--polish", type=int, default=0, metavar="N",
+                   help="(gradient) exact throws sampled near the best throws found, after the ascent (default 0)")
+    o.add_argument("--horizon", type=int, default=None, metavar="STEPS",
+                   help="(gradient) steps the surrogate is differentiated through (default: the whole rollout)")
     o.add_argument("--per-axis", type=int, default=6, metavar="N", help="grid points per searched parameter (grid)")
     o.add_argument("--throws", type=int, default=1000, metavar="N", help="random throws (random)")
     o.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
@@ -118,7 +122,7 @@ def run_optimize(args) -> int:
     if args.method == "gradient":
         r = gradient_search(box, objective=args.objective, stone=args.stone, config=config, starts=args.starts,
                             iterations=args.iterations, learning_rate=args.learning_rate, seed=args.seed,
-                            progress=progress)
+                            polish=args.polish, horizon=args.horizon, progress=progress)
     elif args.method == "perturbation":
         r = perturbation_search(box, stone=args.stone, config=config, starts=args.starts,
                                 iterations=args.iterations, learning_rate=args.learning_rate, seed=args.seed,

@@ -8,7 +8,13 @@ r"""Search for the throw with the most bounces: optax gradient ascent, and basel
   throw still pays for every remaining step, while ``lax.map`` keeps the
   rollout's skip of out-of-play segments. After every iteration the true
   bounce count of every start is simulated exactly
-  (:func:`jaxskip.simulate_batch`); the best true count wins.
+  (:func:`jaxskip.simulate_batch`); the best true count wins. Optionally
+  (``polish=N``) the search ends with :func:`local_search`: N exact throws
+  sampled around the best throws the ascent visited.
+* :func:`local_search` — exact counts of random throws near given centres: the
+  count is chaotic on scales far below what a gradient resolves (neighbouring
+  throws differ by tens of bounces), so a smooth ascent finds the *region* of
+  long throws and sampling finds the long throws in it.
 * :func:`perturbation_search` — the randomised-smoothing baseline: the
   gradient of :math:`E[N(\theta + \sigma\epsilon)]` estimated from antithetic
   pairs of exact simulations (no derivative of the simulator).
@@ -45,7 +51,7 @@ class SearchResult:
     """Outcome of a search (user units: m/s, deg, rev/s)."""
 
     method: str
-    """``gradient``, ``perturbation``, ``grid`` or ``random``."""
+    """``gradient``, ``perturbation``, ``grid``, ``random`` or ``local``."""
     best: dict
     """The best throw found: {parameter: value} for all four parameters (user units)."""
     best_bounces: int
@@ -90,7 +96,8 @@ def _random_points(box: Box, n: int, rng) -> dict:
 def gradient_search(box: Box | None = None, *, objective: str = "bounces", stone="paper",
                     config: SimConfig | None = None, starts: int = 8, iterations: int = 20,
                     learning_rate: float = 0.3, clip: float = 1.0, width: float = WIDTH, seed: int = 0,
-                    initial: dict | None = None, progress: bool = False) -> SearchResult:
+                    initial: dict | None = None, polish: int = 0, polish_scale: float = 0.03,
+                    horizon: int | None = None, progress: bool = False) -> SearchResult:
     """Multi-start gradient ascent on a smooth objective; returns the best true bounce count found.
 
     ``box`` (default: the human box of :data:`optimize.bounds.HUMAN_BOX`), ``objective``
@@ -100,18 +107,31 @@ def gradient_search(box: Box | None = None, *, objective: str = "bounces", stone
     zero (and counted in the history). ``width`` [m]: the surrogate's sharpness knob.
     ``initial``: a throw to start from, {parameter: value} in user units for every searched
     parameter (inside the box); it replaces the first random start.
+    ``polish``: exact throws spent after the ascent by :func:`local_search` around the (up to 4)
+    best distinct throws the ascent visited, each parameter perturbed by ``polish_scale`` times
+    its searched range (0: no polish). The history then ends with an entry of ``"phase":
+    "polish"``; every entry lists the throws it simulated under ``"points"`` (user units).
+    ``horizon``: steps of the rollout the surrogate is differentiated through (default: all of
+    ``config.max_steps``). A short horizon (e.g. 1200 steps, 0.3 s of contacts) is truncated
+    backpropagation: cheaper gradients (4 against 15 ms, measured) that see only the first
+    bounces, which are not yet chaotic; true counts always use the whole rollout.
     """
     t0 = time.perf_counter()
     box = make_box() if box is None else box
     config = SimConfig() if config is None else config
     starts = check_int("starts", starts, minimum=1, maximum=4096)
     iterations = check_int("iterations", iterations, minimum=1, maximum=100_000)
+    polish = check_int("polish", polish, minimum=0, maximum=100_000_000)
+    check_range("polish_scale", polish_scale, 0.0, 1.0, low_open=True)
     check_positive("learning_rate", learning_rate)
     check_positive("clip", clip)
     check_positive("width", width, unit="m")
     rigid, _ = resolve_stone(stone)
     water = water_params(config.force.law)
-    f = make_objective(objective, config, rigid, water, width)
+    if horizon is not None:
+        horizon = check_int("horizon", horizon, minimum=1, maximum=config.max_steps)
+    f = make_objective(objective, config if horizon is None else dataclasses.replace(config, max_steps=horizon),
+                       rigid, water, width)
 
     def value_and_grad(u):
         return jax.lax.map(jax.value_and_grad(lambda ui: f(box.to_throw(ui))), u)
@@ -140,9 +160,10 @@ def gradient_search(box: Box | None = None, *, objective: str = "bounces", stone
         i = int(np.argmax(counts))
         if counts[i] > best_n:
             best_n, best = int(counts[i]), _full(box, {k: v[i] for k, v in values.items()})
+        points = {k: np.asarray(v, dtype=float).tolist() for k, v in values.items()}
         if it == iterations:
             history.append({"iteration": it, "bounces": counts.tolist(), "objective": None, "best": best_n,
-                            "nonfinite": 0})
+                            "nonfinite": 0, "points": points})
             break
         t1 = time.perf_counter()
         obj, g = jax.block_until_ready(value_and_grad(u))
@@ -151,14 +172,92 @@ def gradient_search(box: Box | None = None, *, objective: str = "bounces", stone
         finite = np.all(np.isfinite(g), axis=-1)
         u, state = step_opt(float_array(np.where(finite[:, None], g, 0.0)), state, u)
         history.append({"iteration": it, "bounces": counts.tolist(), "objective": np.asarray(obj).tolist(),
-                        "best": best_n, "nonfinite": int(np.sum(~np.asarray(finite)))})
+                        "best": best_n, "nonfinite": int(np.sum(~np.asarray(finite))), "points": points})
         if progress:
             print(f"\r  iteration {it + 1}/{iterations}: best {best_n} bounces, surrogate mean "
                   f"{float(np.mean(obj)):.2f}", end="", file=sys.stderr, flush=True)
     if progress:
         print(file=sys.stderr)
+    if polish:
+        local = local_search(box, top_throws(history, min(4, starts)), throws=polish, scale=polish_scale,
+                             stone=rigid, config=config, seed=seed, progress=progress)
+        forward += local.forward_throws
+        entry = dict(local.history[0], iteration=iterations + 1)
+        if local.best_bounces > best_n:
+            best_n, best = local.best_bounces, local.best
+        history.append(dict(entry, best=best_n))
     return SearchResult("gradient", best, best_n, history, box, time.perf_counter() - t0, forward,
                         starts * iterations, t_grad, t_compile)
+
+
+def top_throws(history: list, k: int) -> dict:
+    """The ``k`` distinct throws with the highest true counts in a search's ``history``.
+
+    Returns {parameter: (m,) array} in user units, best first (``m <= k``). Needs the
+    ``"points"`` of each history entry (:func:`gradient_search` records them).
+    """
+    k = check_int("k", k, minimum=1)
+    names = [n for n in history[0]["points"]] if history and "points" in history[0] else []
+    if not names:
+        raise ParameterError("history has no points: top_throws needs a gradient_search history")
+    pts = np.stack([np.concatenate([np.asarray(h["points"][n], float) for h in history if "points" in h])
+                    for n in names], axis=-1)
+    counts = np.concatenate([np.asarray(h["bounces"]) for h in history if "points" in h])
+    chosen = []
+    for i in np.argsort(-counts, kind="stable"):
+        if not any(np.allclose(pts[i], pts[j]) for j in chosen):
+            chosen.append(i)
+        if len(chosen) == k:
+            break
+    return {n: pts[chosen, c] for c, n in enumerate(names)}
+
+
+def local_search(box: Box, centres: dict, *, throws: int = 256, scale: float = 0.03, stone="paper",
+                 config: SimConfig | None = None, lanes: int | None = None, seed: int = 0,
+                 progress: bool = False) -> SearchResult:
+    """Exact counts of ``throws`` random throws near ``centres`` (the best one wins).
+
+    ``centres``: {parameter: (m,) array} in user units, one entry per searched parameter of
+    ``box`` (e.g. :func:`top_throws` of a gradient search). Throw ``i`` perturbs centre
+    ``i mod m``: each searched parameter by a normal deviate of ``scale`` times its range
+    (0.03: ±0.27 m/s, ±1.2°, ±0.9°, ±0.6 rev/s in the human box), clipped to the box.
+
+    >>> from optimize import make_box
+    >>> box = make_box({"speed": (6.0, 8.0)}, {"tilt": 20.0, "attack": 5.0, "spin": 20.0})
+    >>> r = local_search(box, {"speed": [7.0]}, throws=4)
+    >>> r.forward_throws, 6.0 <= r.best["speed"] <= 8.0
+    (4, True)
+    """
+    t0 = time.perf_counter()
+    config = SimConfig() if config is None else config
+    n = check_int("throws", throws, minimum=1, maximum=100_000_000)
+    check_range("scale", scale, 0.0, 1.0, low_open=True)
+    m = None
+    for name, lo, hi in box.searched:
+        if name not in centres:
+            raise ParameterError(f"centres must give every searched parameter; missing {name!r}")
+        c = np.atleast_1d(np.asarray(centres[name], dtype=float))
+        if c.ndim != 1 or c.size == 0 or (m is not None and c.size != m):
+            raise ParameterError(f"centres[{name!r}] must be a non-empty 1-D array of the same length as the others")
+        if not np.all((c >= lo) & (c <= hi)):
+            raise ParameterError(f"centres[{name!r}] must lie within the box [{lo}, {hi}], got {c}")
+        m = c.size
+    rng = np.random.default_rng(seed)
+    pick = np.arange(n) % m
+    values = {}
+    for name, lo, hi in box.searched:
+        c = np.atleast_1d(np.asarray(centres[name], dtype=float))[pick]
+        values[name] = np.clip(c + scale * (hi - lo) * rng.standard_normal(n), lo, hi)
+    rigid, _ = resolve_stone(stone)
+    throws_ = box.throws_from_user(values)
+    r = simulate_batch(throws_, rigid, config=dataclasses.replace(config, record=False), lanes=lanes,
+                       progress=progress)
+    counts = r.bounces
+    i = int(np.argmax(counts))
+    best = _full(box, {k: v[i] for k, v in values.items()})
+    hist = [{"iteration": 0, "phase": "polish", "bounces": counts.tolist(), "objective": None,
+             "best": int(counts[i]), "nonfinite": 0, "points": {k: v.tolist() for k, v in values.items()}}]
+    return SearchResult("local", best, int(counts[i]), hist, box, time.perf_counter() - t0, n, 0)
 
 
 def _ascend(opt, g, state, u):
@@ -261,11 +360,17 @@ def plot_search(result: SearchResult, path) -> None:
     import matplotlib.pyplot as plt
 
     fig, ax = plt.subplots(figsize=(6.4, 4.0))
-    its = [h["iteration"] for h in result.history]
-    per = np.array([h["bounces"] for h in result.history], dtype=float)
+    steps = [h for h in result.history if h.get("phase") != "polish"]
+    its = [h["iteration"] for h in steps]
+    per = np.array([h["bounces"] for h in steps], dtype=float)
     if per.ndim == 2 and per.shape[0] > 1:
         ax.plot(its, per, color="0.7", lw=0.8)
-    ax.plot(its, [h["best"] for h in result.history], "C3-o", ms=3, label="best true count so far")
+    for h in result.history:
+        if h.get("phase") == "polish":
+            ax.plot(np.full(len(h["bounces"]), h["iteration"]), h["bounces"], ".", color="C0", ms=2, alpha=0.4,
+                    label=f"polish: {len(h['bounces'])} throws near the best")
+    ax.plot([h["iteration"] for h in result.history], [h["best"] for h in result.history], "C3-o", ms=3,
+            label="best true count so far")
     ax.set_xlabel("iteration")
     ax.set_ylabel("bounces (exact simulation)")
     b = result.best
@@ -277,5 +382,5 @@ def plot_search(result: SearchResult, path) -> None:
     plt.close(fig)
 
 
-__all__ = ["SearchResult", "gradient_search", "grid_points", "grid_search", "perturbation_search", "plot_search",
-           "random_search"]
+__all__ = ["SearchResult", "gradient_search", "grid_points", "grid_search", "local_search", "perturbation_search",
+           "plot_search", "random_search", "top_throws"]

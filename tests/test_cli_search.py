@@ -21,6 +21,8 @@ ROOT = Path(__file__).resolve().parent.parent
     (["sweep", "umin", "--tilts", "5:x:3"], "--tilts"),
     (["sweep", "umin", "--speed-range", "0", "8"], "speed_range"),
     (["sweep", "merge"], "merge needs"),
+    (["optimize", "--polish", "-1"], "polish"),
+    (["optimize", "--horizon", "0"], "horizon"),
     (["sweep", "domain", "--plot", "out.txt"], "--plot"),
 ])
 def test_bad_input_exits_2(argv, word, capsys):

@@ -1,5 +1,6 @@
 """The throw search: surrogate gradients, its agreement with the true count, bounds, the search itself."""
 
+import dataclasses
 import math
 
 import jax
@@ -7,8 +8,8 @@ import jax.numpy as jnp
 import numpy as np
 import pytest
 
-from jaxskip import ParameterError, SimConfig, Throw, rollout
-from optimize import gradient_search, make_box, make_objective
+from jaxskip import ParameterError, SimConfig, Throw, rollout, simulate_batch
+from optimize import gradient_search, local_search, make_box, make_objective, top_throws
 from optimize.objectives import soft_bounce_count, soft_bounce_rollout
 
 FIELDS = ("speed", "tilt", "attack", "spin")
@@ -120,3 +121,53 @@ def test_gradient_search_improves_a_poor_throw():
     assert last > first, [h["bounces"] for h in r.history]
     assert r.best_bounces == last and r.gradient_evals == 12 and len(r.history) == 7
     assert set(r.best) == set(FIELDS)
+
+
+def test_polish_samples_near_the_best_throws_and_counts_exactly():
+    """gradient_search(polish=N): N exact throws near the ascent's best; the best of all wins."""
+    box = make_box({"speed": (2.0, 10.0), "attack": (0.0, 30.0)}, held={"tilt": 20.0, "spin": 15.0})
+    config = SimConfig(max_steps=3000, attitude="fixed")
+    r = gradient_search(box, config=config, starts=2, iterations=3, learning_rate=0.5, seed=3, polish=10,
+                        polish_scale=0.05)
+    ascent, polish = r.history[:-1], r.history[-1]
+    assert polish["phase"] == "polish" and len(polish["bounces"]) == 10
+    assert r.forward_throws == 2 * 4 + 10 and r.gradient_evals == 6
+    every = [b for h in r.history for b in h["bounces"]]
+    assert r.best_bounces == max(every) >= ascent[-1]["best"]
+    # Each polish throw lies within a few scales of one of the ascent's best throws, inside the box.
+    centres = top_throws(ascent, 2)
+    pts = np.stack([polish["points"]["speed"], polish["points"]["attack"]], axis=-1)
+    c = np.stack([centres["speed"], centres["attack"]], axis=-1)
+    scaled = (pts[:, None, :] - c[None, :, :]) / (0.05 * np.array([8.0, 30.0]))
+    assert np.all(np.min(np.max(np.abs(scaled), axis=-1), axis=1) < 6.0)
+    assert np.all((pts >= [2.0, 0.0]) & (pts <= [10.0, 30.0]))
+    # The reported count is the exact simulation's, throw by throw.
+    i = int(np.argmax(polish["bounces"]))
+    again = simulate_batch(box.throws_from_user({k: np.array([v[i]]) for k, v in polish["points"].items()}),
+                           config=dataclasses.replace(config, record=False))
+    assert int(again.bounces[0]) == polish["bounces"][i]
+
+
+def test_top_throws_are_distinct_and_best_first():
+    history = [{"bounces": [3, 7], "points": {"speed": [4.0, 6.0]}},
+               {"bounces": [7, 5], "points": {"speed": [6.0, 5.0]}}]
+    top = top_throws(history, 3)
+    np.testing.assert_array_equal(top["speed"], [6.0, 5.0, 4.0])
+    with pytest.raises(ParameterError, match="no points"):
+        top_throws([{"bounces": [1]}], 1)
+
+
+@pytest.mark.parametrize("centres, kwargs, message", [
+    ({"speed": [11.0]}, {}, "within the box"),
+    ({}, {}, "missing 'speed'"),
+    ({"speed": [5.0]}, {"scale": 0.0}, "scale"),
+    ({"speed": [5.0]}, {"throws": 0}, "throws"),
+])
+def test_local_search_bad_input(centres, kwargs, message):
+    box = make_box({"speed": (3.0, 10.0)}, held={"tilt": 20.0, "attack": 10.0, "spin": 15.0})
+    with pytest.raises(ParameterError, match=message):
+        local_search(box, centres, **kwargs)
+    if not kwargs and centres:
+        return
+    with pytest.raises(ParameterError, match="polish"):
+        gradient_search(box, polish=-1)
