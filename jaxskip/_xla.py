@@ -23,7 +23,10 @@ backend. :func:`apply` therefore appends it to ``XLA_FLAGS`` at ``import jaxskip
 
 It applies to every JAX program in the process, which is why it is documented here and in the
 README, and why the threshold is bounded: loops that stream more than 100 MB (big water grids,
-wide batches) keep XLA's default, multi-threaded execution.
+wide batches) keep XLA's default, multi-threaded execution. XLA also refuses the single-function
+form for any loop whose body holds a scatter (``x.at[i].add(...)`` with traced indices), whatever
+its size: the loops of the simulator avoid scatters for that reason
+(:func:`jaxskip.water.deposit` adds its points' weights with slice updates).
 """
 
 from __future__ import annotations

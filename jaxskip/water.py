@@ -336,7 +336,19 @@ def _inflow(incoming, s, pad=0.0):
     return sum(a * sp[1 + di:1 + di + nx, 1 + dj:1 + dj + ny] for a, (di, dj) in zip(incoming, _NEIGHBOURS))
 
 
-def _clamp(grid: WaterGrid, volume, flows, dt, block=None):
+CLAMP_LIST = 64
+"""At most this many columns at risk: a block's clamp passes run on them alone (:func:`_clamp`'s
+``listed``); more, and they run on every column of the block."""
+
+
+def _risk_margin(grid: WaterGrid) -> float:
+    """A column is at risk (its clamp factor can differ from 1 by more than round-off) when
+    ``margin * dt * out >= volume``. The smooth factors differ from 1 by about r^-k/k with
+    r = V/out; this margin keeps that below 1e-16 (every column holding ~1.9x its outflow at k = 50)."""
+    return (1e-16 * grid.sharpness) ** (-1.0 / grid.sharpness) if grid.clamp == "smooth" else 1.0
+
+
+def _clamp(grid: WaterGrid, volume, flows, dt, block=None, listed: bool = False):
     """Scale outflows so no column goes below zero (reference and smooth clamps).
 
     Starts from the inflow-free factors min(1, V/out), which are safe whatever
@@ -352,6 +364,12 @@ def _clamp(grid: WaterGrid, volume, flows, dt, block=None):
     (``1 <= i0``, ``i0 + bx <= nx - 1``, the same along y): the work is then done on
     the block and its one-column ring alone — the pipes of that ring are cut out of
     the flows, scaled and written back in place — and costs the block, not the grid.
+
+    ``listed=True`` (with a block; valid when at most :data:`CLAMP_LIST` columns are at
+    risk, the caller checks): the passes run on the columns at risk alone, gathered
+    into a list, and every other column keeps factor 1 exactly (a column not at risk
+    has a factor within round-off of 1 whatever its neighbours do: inflows only raise
+    it). The same answer to round-off; the passes cost the list, not the block.
     """
     smooth = grid.clamp == "smooth"
     k = float(grid.sharpness)
@@ -370,25 +388,80 @@ def _clamp(grid: WaterGrid, volume, flows, dt, block=None):
     out = sum(jnp.maximum(p, 0.0) for p in parts)
     incoming = tuple(jnp.maximum(-p, 0.0) for p in parts)
     need = dt * out * (1.0 + _MARGIN)     # aim a hair above zero: round-off cannot dip below
-    s = _ratio_factor(volume, need, smooth, k)
-    for _ in range(grid.clamp_iterations):
-        s = _ratio_factor(volume + dt * _inflow(incoming, s, 1.0 if block is not None else 0.0), need, smooth, k)
+    if block is not None and listed:
+        s = _listed_factors(grid, volume, out, need, incoming, dt)
+    else:
+        s = _ratio_factor(volume, need, smooth, k)
+        for _ in range(grid.clamp_iterations):
+            s = _ratio_factor(volume + dt * _inflow(incoming, s, 1.0 if block is not None else 0.0), need, smooth, k)
     if block is None:
         return _scale_pipes(*flows, s)
     scaled = _scale_pipes(*sub, jnp.pad(s, 1, constant_values=1.0))   # the ring keeps factor 1
     return tuple(jax.lax.dynamic_update_slice(q, q_sub, corner) for q, q_sub in zip(flows, scaled))
 
 
+def _listed_factors(grid: WaterGrid, volume, out, need, incoming, dt):
+    """:func:`_clamp`'s factors on a block ``(bx, by)``, computed for its columns at risk alone.
+
+    The columns at risk (at most :data:`CLAMP_LIST`) are listed in row-major order
+    (a running count over the block and a binary search: no scatter, so XLA:CPU can
+    still compile a loop around the step into one function); each one's neighbours are
+    found in a map of list slots. The passes are those of :func:`_clamp`, in the same
+    order, with factor 1 for every column not listed. Returns the ``(bx, by)`` factors.
+    """
+    smooth, k, cap = grid.clamp == "smooth", float(grid.sharpness), CLAMP_LIST
+    bx, by = volume.shape
+    risk = (_risk_margin(grid) * dt * out >= volume).ravel()
+    count = jnp.cumsum(risk.astype(jnp.int32))
+    pos = jnp.minimum(jnp.searchsorted(count, jnp.arange(1, cap + 1, dtype=count.dtype), side="left"), bx * by - 1)
+    valid = jnp.arange(cap) < count[-1]
+    slots = jnp.where(risk, count - 1, cap).reshape(bx, by)     # cap: not listed (factor 1)
+    ring = jnp.pad(slots, 1, constant_values=cap)
+    i, j = pos // by, pos % by
+    take = lambda a: a.ravel()[pos]  # noqa: E731
+    vol, nd, inc = take(volume), take(need), tuple(take(a) for a in incoming)
+    nbr = tuple(ring[1 + i + di, 1 + j + dj] for di, dj in _NEIGHBOURS)
+    one = jnp.ones((1,), volume.dtype)
+    s = jnp.where(valid, _ratio_factor(vol, nd, smooth, k), 1.0)
+    for _ in range(grid.clamp_iterations):
+        s1 = jnp.concatenate([s, one])
+        inflow = sum(a * s1[n] for a, n in zip(inc, nbr))
+        s = jnp.where(valid, _ratio_factor(vol + dt * inflow, nd, smooth, k), 1.0)
+    return jnp.concatenate([s, one])[slots]
+
+
+def _sponge_ramp(grid: WaterGrid, n: int):
+    """(n,) sponge ramp along one axis: 0 inside, rising linearly to 1 at the edge columns."""
+    w = grid.sponge_width
+    i = jnp.arange(n)
+    d = jnp.minimum(i, n - 1 - i)             # columns from the nearest edge
+    return jnp.clip((w - d) / w, 0.0, 1.0)
+
+
 def _sponge_rate(grid: WaterGrid):
     """Relaxation rate [1/s] at column centres: 0 inside, rising quadratically to the edge."""
     nx, ny = grid.shape
-    w = grid.sponge_width
-    def ramp(n):
-        i = jnp.arange(n)
-        d = jnp.minimum(i, n - 1 - i)             # columns from the nearest edge
-        return jnp.clip((w - d) / w, 0.0, 1.0)
-    r = jnp.maximum(ramp(nx)[:, None], ramp(ny)[None, :])
+    r = jnp.maximum(_sponge_ramp(grid, nx)[:, None], _sponge_ramp(grid, ny)[None, :])
     return grid.sponge_rate * r ** 2
+
+
+def _sponge_keep(grid: WaterGrid, dt):
+    """The sponge's factors for a step of ``dt``: ``(column (nx, ny), (x, y, diagonal, anti-diagonal) pipes)``.
+
+    A column keeps ``1 / (1 + dt * rate)`` (implicit relaxation towards rest; :func:`_sponge_rate`),
+    a pipe the smaller factor of its two columns. The rate is ``sponge_rate * max(rx_i, ry_j)^2``
+    with one ramp per axis, and both maps are monotone, so every factor is the smaller of one per
+    row and one per column: ``nx + ny`` divisions a step instead of one per column (or two per pipe)
+    — the same numbers, bit for bit.
+    """
+    nx, ny = grid.shape
+    kx = 1.0 / (1.0 + dt * (grid.sponge_rate * _sponge_ramp(grid, nx) ** 2))
+    ky = 1.0 / (1.0 + dt * (grid.sponge_rate * _sponge_ramp(grid, ny) ** 2))
+    col = jnp.minimum(kx[:, None], ky[None, :])
+    px, py = jnp.minimum(kx[:-1], kx[1:]), jnp.minimum(ky[:-1], ky[1:])
+    pipes = (jnp.minimum(px[:, None], ky[None, :]), jnp.minimum(kx[:, None], py[None, :]),
+             jnp.minimum(px[:, None], py[None, :]), jnp.minimum(px[:, None], py[None, :]))
+    return col, pipes
 
 
 def make_water_step(grid: WaterGrid, clamp_blocks: tuple = ()):
@@ -425,7 +498,6 @@ def make_water_step(grid: WaterGrid, clamp_blocks: tuple = ()):
     c_diag = math.sqrt(2.0) / 6.0 * l * H
     k_axis = c_axis / l                       # c / L, times g * (head difference) gives dQ/dt
     k_diag = c_diag / (math.sqrt(2.0) * l)
-    sponge = _sponge_rate(grid) if grid.boundary == "sponge" else None
     nx, ny = grid.shape
     if not isinstance(clamp_blocks, tuple):
         raise ParameterError(f"clamp_blocks must be a tuple of (bx, by) pairs, got {clamp_blocks!r}")
@@ -459,36 +531,40 @@ def make_water_step(grid: WaterGrid, clamp_blocks: tuple = ()):
         volume = h * area
         if grid.clamp != "zero":
             # Skip the clamp's passes when no column can run short (a real branch for one field;
-            # under vmap both run). The smooth factors differ from 1 by about r^-k/k with r = V/out;
-            # the margin keeps that below 1e-16 (every column holding ~1.9x its outflow at k = 50).
-            out, _ = _split(*flows)
-            margin = (1e-16 * grid.sharpness) ** (-1.0 / grid.sharpness) if grid.clamp == "smooth" else 1.0
-            risk = margin * dt * out >= volume
+            # under vmap all run): see _risk_margin.
+            # (the flows are a conditional's operands, so XLA writes them once and the test reads them:
+            # fused into it, each flow would be recomputed from the heads for each of its two columns)
+            out = jax.lax.cond(dt > 0, lambda f: _split(*f)[0], lambda f: jnp.zeros_like(volume), flows)
+            risk = _risk_margin(grid) * dt * out >= volume
             if not blocks:
                 flows = jax.lax.cond(jnp.any(risk), lambda f: _clamp(grid, volume, f, dt), lambda f: f, flows)
             else:
                 rows, cols = jnp.any(risk, axis=1), jnp.any(risk, axis=0)
-                branches, fits = [lambda f: f], []
+                placed, fits = [], []
                 for bx, by in blocks:
                     (i0, fit_x), (j0, fit_y) = _place(rows, bx, nx), _place(cols, by, ny)
-                    branches.append(lambda f, blk=(i0, j0, bx, by): _clamp(grid, volume, f, dt, blk))
+                    placed.append((i0, j0, bx, by))
                     fits.append(fit_x & fit_y)
-                branches.append(lambda f: _clamp(grid, volume, f, dt))
-                which = len(blocks) + 1                 # none fits: the whole grid
-                for b in reversed(range(len(blocks))):  # else the smallest block that fits
-                    which = jnp.where(fits[b], b + 1, which)
+                # 0: no risk; then each block with its columns at risk listed, each block whole, the grid.
+                branches = ([lambda f: f]
+                            + [lambda f, b=b: _clamp(grid, volume, f, dt, b, listed=True) for b in placed]
+                            + [lambda f, b=b: _clamp(grid, volume, f, dt, b) for b in placed]
+                            + [lambda f: _clamp(grid, volume, f, dt)])
+                short = jnp.sum(risk) <= CLAMP_LIST
+                which = len(branches) - 1                  # none fits: the whole grid
+                for b in reversed(range(len(blocks))):     # else the smallest block that fits...
+                    which = jnp.where(fits[b], len(blocks) + 1 + b, which)
+                for b in reversed(range(len(blocks))):     # ...with its columns at risk listed if few
+                    which = jnp.where(fits[b] & short, 1 + b, which)
                 which = jnp.where(jnp.any(risk), which, 0)
                 flows = jax.lax.switch(which, branches, flows)
         height = h - (dt / area) * _net_out(*flows)
         if grid.clamp == "zero":
             height = jnp.maximum(height, 0.0)
-        if sponge is not None:
-            keep_col = 1.0 / (1.0 + dt * sponge)   # implicit relaxation towards rest
+        if grid.boundary == "sponge":
+            keep_col, keep_pipes = _sponge_keep(grid, dt)   # implicit relaxation towards rest
             height = H + (height - H) * keep_col
-            flows = (flows[0] * jnp.minimum(keep_col[:-1, :], keep_col[1:, :]),
-                     flows[1] * jnp.minimum(keep_col[:, :-1], keep_col[:, 1:]),
-                     flows[2] * jnp.minimum(keep_col[:-1, :-1], keep_col[1:, 1:]),
-                     flows[3] * jnp.minimum(keep_col[:-1, 1:], keep_col[1:, :-1]))
+            flows = tuple(q * k for q, k in zip(flows, keep_pipes))
         return WaterState(height=height, qx=flows[0], qy=flows[1], qd=flows[2], qa=flows[3],
                           time=state.time + dt)
 
@@ -551,22 +627,29 @@ def deposit(grid: WaterGrid, x, y, value, origin=None, into=None):
     sum to one, so the total is kept for points inside the grid; points outside
     are dropped. ``x, y, value``: arrays of one shape; ``origin`` as in :func:`height_at`.
     ``into``: an ``(nx, ny)`` array to add to (default zeros); adding in place inside
-    a loop costs the points, not the grid (one scatter of the 4 corner weights).
+    a loop costs the points, not the grid: a loop over the points adds each one's
+    2 x 2 corner weights where they land (a slice update, in place). No scatter, so
+    XLA:CPU can compile a loop that deposits into one function (a scatter keeps the
+    whole loop out of it: ``jaxskip/_xla.py``).
     """
     nx, ny = grid.shape
     ox, oy = grid.origin if origin is None else (origin[0], origin[1])
-    fx = (x - ox) / grid.spacing
-    fy = (y - oy) / grid.spacing
+    fx = jnp.ravel((x - ox) / grid.spacing)
+    fy = jnp.ravel((y - oy) / grid.spacing)
     inside = (fx >= 0) & (fx <= nx - 1) & (fy >= 0) & (fy <= ny - 1)
     fx = jnp.clip(fx, 0.0, nx - 1.0)
     fy = jnp.clip(fy, 0.0, ny - 1.0)
     i0 = jnp.clip(jnp.floor(fx).astype(jnp.int32), 0, nx - 2)
     j0 = jnp.clip(jnp.floor(fy).astype(jnp.int32), 0, ny - 2)
     tx, ty = fx - i0, fy - j0
-    v = jnp.where(inside, value, 0.0)
+    v = jnp.where(inside, jnp.ravel(value), 0.0)
+    # (P, 2, 2): point p's weight on columns (i0 + a, j0 + b)
+    w = jnp.stack([jnp.stack([(1 - tx) * (1 - ty) * v, (1 - tx) * ty * v], -1),
+                   jnp.stack([tx * (1 - ty) * v, tx * ty * v], -1)], 1)
     out = jnp.zeros(grid.shape, jnp.result_type(value, float)) if into is None else into
-    i = jnp.concatenate([i0.ravel(), i0.ravel() + 1, i0.ravel(), i0.ravel() + 1])
-    j = jnp.concatenate([j0.ravel(), j0.ravel(), j0.ravel() + 1, j0.ravel() + 1])
-    w = jnp.concatenate([((1 - tx) * (1 - ty) * v).ravel(), (tx * (1 - ty) * v).ravel(),
-                         ((1 - tx) * ty * v).ravel(), (tx * ty * v).ravel()])
-    return out.at[i, j].add(w)
+
+    def add(p, a):
+        corner = (i0[p], j0[p])
+        return jax.lax.dynamic_update_slice(a, jax.lax.dynamic_slice(a, corner, (2, 2)) + w[p], corner)
+
+    return jax.lax.fori_loop(0, fx.shape[0], add, out)
