@@ -136,6 +136,15 @@ def gradient_search(box: Box | None = None, *, objective: str = "bounces", stone
     def value_and_grad(u):
         return jax.lax.map(jax.value_and_grad(lambda ui: f(box.to_throw(ui))), u)
 
+    # The starts are split over the local devices (``import jaxskip`` makes one CPU device per
+    # core): each device runs ``lax.map`` over its share (shard_map; a map, not a vmap, so every
+    # rollout keeps its skip of finished segments).
+    sharding = _starts_sharding(starts)
+    if sharding is not None:
+        spec = sharding.spec
+        value_and_grad = jax.shard_map(value_and_grad, mesh=sharding.mesh, in_specs=spec, out_specs=(spec, spec),
+                                       check_vma=False)  # per-shard work, no collectives
+
     opt = optax.chain(optax.clip_by_global_norm(clip), optax.adam(learning_rate))
     step_opt = jax.jit(jax.vmap(lambda g, s, u: _ascend(opt, g, s, u)))
 
@@ -147,8 +156,9 @@ def gradient_search(box: Box | None = None, *, objective: str = "bounces", stone
                 raise ParameterError(f"initial must give every searched parameter; missing {name!r}")
             points[name][0] = check_range(f"initial {name}", initial[name], lo, hi)
     u = float_array(box.from_user(points))
+    place = (lambda a: a) if sharding is None else (lambda a: jax.device_put(a, sharding))  # noqa: E731
     t_compile = time.perf_counter()
-    value_and_grad = jax.jit(value_and_grad).lower(u).compile()
+    value_and_grad = jax.jit(value_and_grad).lower(place(u)).compile()
     t_compile = time.perf_counter() - t_compile
     t_grad = 0.0
     state = jax.jit(jax.vmap(opt.init))(u)
@@ -166,7 +176,7 @@ def gradient_search(box: Box | None = None, *, objective: str = "bounces", stone
                             "nonfinite": 0, "points": points})
             break
         t1 = time.perf_counter()
-        obj, g = jax.block_until_ready(value_and_grad(u))
+        obj, g = jax.block_until_ready(value_and_grad(place(u)))
         t_grad += time.perf_counter() - t1
         g = np.asarray(g)  # (starts, P): checked on the host (eager jnp ops would compile each)
         finite = np.all(np.isfinite(g), axis=-1)
@@ -258,6 +268,16 @@ def local_search(box: Box, centres: dict, *, throws: int = 256, scale: float = 0
     hist = [{"iteration": 0, "phase": "polish", "bounces": counts.tolist(), "objective": None,
              "best": int(counts[i]), "nonfinite": 0, "points": {k: v.tolist() for k, v in values.items()}}]
     return SearchResult("local", best, int(counts[i]), hist, box, time.perf_counter() - t0, n, 0)
+
+
+def _starts_sharding(starts: int):
+    """The starts' axis split over as many local devices as divide it evenly (None: one device)."""
+    devices = jax.local_devices()
+    d = max(k for k in range(1, len(devices) + 1) if starts % k == 0)
+    if d == 1:
+        return None
+    mesh = jax.sharding.Mesh(np.array(devices[:d]), ("starts",))
+    return jax.sharding.NamedSharding(mesh, jax.sharding.PartitionSpec("starts"))
 
 
 def _ascend(opt, g, state, u):
