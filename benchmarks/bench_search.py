@@ -56,6 +56,8 @@ def main(argv=None):
     ap.add_argument("--finite-steps", type=int, default=1200, help="horizon [steps] of the finiteness check")
     ap.add_argument("--no-baselines", action="store_true",
                     help="skip the perturbation and random baselines (the perturbation one is slow: ~1 h in full)")
+    ap.add_argument("--horizon", type=int, default=None,
+                    help="steps the surrogate is differentiated through (default: the whole rollout)")
     ap.add_argument("--polish-scale", type=float, default=0.03,
                     help="polish perturbation as a fraction of each range (default 0.03)")
     ap.add_argument("--json", metavar="PATH")
@@ -76,8 +78,10 @@ def main(argv=None):
 
     # A gradient evaluation costs what it measured in the search itself (compile excluded): the long
     # throws a search climbs to cost more than a typical one, so no single throw's cost stands in.
-    print(f"gradient search: {starts} starts x {args.iterations} iterations ...", flush=True)
-    gs = gradient_search(box, config=config, starts=starts, iterations=args.iterations, progress=True)
+    print(f"gradient search: {starts} starts x {args.iterations} iterations, horizon "
+          f"{args.horizon or config.max_steps} steps ...", flush=True)
+    gs = gradient_search(box, config=config, starts=starts, iterations=args.iterations, horizon=args.horizon,
+                         progress=True)
     equiv = gs.forward_throws + gs.gradient_time / per_throw
     print(f"  {gs.gradient_evals} gradients ran {gs.gradient_time:.1f} s (compile {gs.compile_time:.1f} s apart) = "
           f"{gs.gradient_time / gs.gradient_evals * 1e3:.0f} ms each = {gs.gradient_time / gs.gradient_evals / per_throw:.1f} "
