@@ -84,7 +84,7 @@ MODES = {
         "grad_steps": 12000, "grad_checkpoints": (0, 1), "grad_repeats": 3, "grad_dtypes": ("f32", "f64"),
         "grad_short_steps": (1200,),
         "check_throws": "grid", "check_steps": 12000,
-        "pool_grid": 64, "pool_lanes": (256, 1024), "pool_dtypes": ("f32", "f64"),
+        "pool_grid": 64, "pool_lanes": (None, 256, 1024), "pool_dtypes": ("f32", "f64"),
     },
 }
 """Sizes per mode. 12000 steps = SimConfig().max_steps; the grid is 64 x 64 in both modes (fewer steps
@@ -448,6 +448,7 @@ def section_pool(dtype, p):
         r = simulate_batch(throws, stone, water=water, config=config, lanes=lanes)
         t2 = time.perf_counter()
         assert np.array_equal(first.bounces, r.bounces)
+        lanes = f"{r.lanes} (default)" if lanes is None else lanes
         out["runs"][str(lanes)] = {
             "first_s": t1 - t0, "run_s": t2 - t1, "chunk": r.chunk,
             "lane_steps_per_throw": r.lane_steps / out["throws"], "outcomes": _outcome_counts(r.outcome),

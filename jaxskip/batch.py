@@ -130,9 +130,10 @@ def simulate_batch(
     water : :class:`WaterParams`; default ``water_params(config.force.law)``.
     config : :class:`SimConfig` (its ``record`` is ignored: no trajectories are kept).
     lanes : throws advanced together (the vmapped batch); at most N are used. Default
-        (``None``): :func:`default_lanes` of N — about N/64, a power of two in [8, 256]. With
-        several local JAX devices the lanes are sharded over all of them (``jax.sharding``; the
-        count is rounded up to a multiple of the device count).
+        (``None``): :func:`default_lanes` of N and the device count — about N/64 lanes per
+        device, a power of two in [8, 256]. With several local JAX devices (``import jaxskip``
+        makes one CPU device per core) the lanes are sharded over all of them
+        (``jax.sharding``; a given count is rounded up to a multiple of the device count).
     chunk : steps between refills; must divide ``config.max_steps`` (default: the divisor
         nearest 250). Smaller wastes less on finished throws, larger costs fewer host round trips.
     progress : print a progress line to stderr.
@@ -153,8 +154,10 @@ def simulate_batch(
     if len(throws.shape) != 1 or throws.shape[0] < 1:
         raise ParameterError(f"throws must have exactly one batch axis with at least one throw; got shape {throws.shape}")
     config = SimConfig() if config is None else config
-    lanes = default_lanes(throws.shape[0]) if lanes is None else check_int("lanes", lanes, minimum=1,
-                                                                                maximum=1_000_000)
+    sharding = _lane_sharding()
+    n_devices = 1 if sharding is None else len(sharding.mesh.devices.flat)
+    lanes = default_lanes(throws.shape[0], n_devices) if lanes is None else check_int(
+        "lanes", lanes, minimum=1, maximum=1_000_000)
     chunk = chunk_for(config.max_steps) if chunk is None else chunk
     chunk = check_int("chunk", chunk, minimum=1, maximum=config.max_steps)
     if config.max_steps % chunk:
@@ -163,7 +166,6 @@ def simulate_batch(
     rigid, _ = resolve_stone(stone, mass=mass, density=density)
 
     n = throws.shape[0]
-    sharding = _lane_sharding()
     lanes = min(lanes, n)
     if sharding is not None:
         per = len(sharding.mesh.devices.flat)
@@ -224,21 +226,26 @@ def simulate_batch(
     )
 
 
-def default_lanes(n: int) -> int:
-    """Lanes for a batch of ``n`` throws: the power of two nearest below ``n / 64``, within [8, 256].
+def default_lanes(n: int, devices: int = 1) -> int:
+    """Lanes for a batch of ``n`` throws on ``devices`` devices: per device, the power of two
+    nearest below ``n / 64``, within [8, 256].
 
     A lane whose throw has finished idles (and still costs) once no throws are left to refill
     it, so a pool as wide as a small batch pays for the longest throw in every lane. About 64
     throws per lane keep that tail short; 8 lanes amortise the per-step dispatch, and beyond 256
-    a step on this kind of CPU is arithmetic-bound. Measured on 2 cores (benchmarks/README.md):
-    512 random throws of the human box cost 5.7 / 7.8 / 19.8 ms per throw at 8 / 32 / 256 lanes;
-    a 4096-throw grid costs the same at 64 and 256.
+    a step on this kind of CPU is arithmetic-bound. Each device advances its own share of the
+    lanes at the same time, so the tail costs the same wall time with ``devices`` times the
+    lanes. Measured on 2 cores (benchmarks/README.md): 512 random throws of the human box cost
+    5.7 / 7.8 / 19.8 ms per throw at 8 / 32 / 256 lanes on one device; a 4096-throw grid costs
+    the same at 64 and 256 lanes on one device, and 5.0 / 4.1-4.4 / 3.6-3.8 s at 64 / 128 / 256
+    lanes on two.
 
-    >>> default_lanes(100), default_lanes(4096), default_lanes(10**6)
-    (8, 64, 256)
+    >>> default_lanes(100), default_lanes(4096), default_lanes(10**6), default_lanes(4096, devices=2)
+    (8, 64, 256, 128)
     """
     n = check_int("n", n, minimum=1)
-    return int(min(256, max(8, 2 ** math.floor(math.log2(max(n / 64, 1.0))))))
+    devices = check_int("devices", devices, minimum=1)
+    return devices * int(min(256, max(8, 2 ** math.floor(math.log2(max(n / 64, 1.0))))))
 
 
 def chunk_for(max_steps: int, target: int = 250) -> int:
