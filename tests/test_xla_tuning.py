@@ -9,8 +9,12 @@ import os
 import subprocess
 import sys
 
+import pytest
+
 PROBE = r"""
 import json, os, sys
+if sys.argv[1] == "onecore":
+    os.sched_setaffinity(0, {min(os.sched_getaffinity(0))})  # as if the machine had one core
 if sys.argv[1] == "late":
     import jax.numpy as jnp
     jnp.zeros(2).block_until_ready()  # start JAX's backend before jaxskip is imported
@@ -78,3 +82,10 @@ def test_cpu_device_opt_out_and_user_choice():
     assert user["devices"] == "user" and user["n_devices"] == 3
     late = _probe({}, "late")
     assert late["n_devices"] == 1 and late["devices"] in ("too-late", "single-core")
+
+
+def test_one_core_keeps_one_device():
+    if not hasattr(os, "sched_setaffinity"):
+        pytest.skip("no CPU affinity masks on this OS")
+    r = _probe({}, "onecore")
+    assert r["cores"] == 1 and r["devices"] == "single-core" and r["n_devices"] == 1
