@@ -123,6 +123,23 @@ def recentre(grid: WaterGrid, water: WaterState, offset, position):
     return jax.lax.cond(jnp.any(d != 0), shift, lambda w: w, water), new
 
 
+def advance_field(grid: WaterGrid, water_step, f: "Field", position, spread: int, dt_max: float) -> "Field":
+    """One water step of the coupled window under the stone's pending push, then re-centring.
+
+    ``f.impulse`` [Pa s] was deposited in the window as it stands (``f.offset``), so the water
+    steps there, under the averaged pressure ``impulse / pending`` spread by ``spread`` filter
+    passes, by ``min(pending, dt_max)`` seconds; only then is the window re-centred on the
+    stone at ``position`` (3,) [m] (re-centring first would shift the field under a push that
+    stays put: the pressure would land a column or two away from the stone). Returns the new
+    :class:`Field` with nothing pending.
+    """
+    push = _spread(f.impulse / f.pending, spread)
+    field = water_step(f.water, push, jnp.minimum(f.pending, dt_max))
+    field, offset = recentre(grid, field, f.offset, position)
+    zero = jnp.zeros_like(f.pending)
+    return Field(field, offset, jnp.zeros_like(f.impulse), zero)
+
+
 def make_coupled_step(config: SimConfig, grid: WaterGrid, water_dt: float | None = None, two_way: bool = True,
                       spread: int = 2):
     """Return the pure coupled step ``step(carry, stone, water) -> (carry, record)``.
@@ -147,11 +164,7 @@ def make_coupled_step(config: SimConfig, grid: WaterGrid, water_dt: float | None
     dt_max = grid.time_step
 
     def advance_water(f: Field, position):
-        field, offset = recentre(grid, f.water, f.offset, position)
-        push = _spread(f.impulse / f.pending, spread)
-        field = water_step(field, push, jnp.minimum(f.pending, dt_max))
-        zero = jnp.zeros_like(f.pending)
-        return Field(field, offset, jnp.zeros_like(f.impulse), zero)
+        return advance_field(grid, water_step, f, position, spread, dt_max)
 
     def step(carry, stone: RigidStone, water: WaterParams):
         state, tr, f = carry
@@ -212,4 +225,4 @@ def rollout_coupled(config: SimConfig, grid: WaterGrid, throw: Throw, stone: Rig
     return state, tr.finish(), (recs if config.record else None), field
 
 
-__all__ = ["Field", "default_water_dt", "default_window", "initial_field", "make_coupled_step", "recentre", "rollout_coupled"]
+__all__ = ["Field", "advance_field", "default_water_dt", "default_window", "initial_field", "make_coupled_step", "recentre", "rollout_coupled"]

@@ -8,8 +8,8 @@ import numpy as np
 import pytest
 
 from jaxskip import OUTCOMES, SimConfig, Throw, rollout
-from jaxskip.coupled import default_window, rollout_coupled
-from jaxskip.water import WaterGrid, total_volume
+from jaxskip.coupled import Field, advance_field, default_window, rollout_coupled
+from jaxskip.water import WaterGrid, make_water_step, still_water, total_volume
 
 SMALL = WaterGrid(shape=(24, 24), spacing=0.01, depth=0.02, boundary="sponge", sponge_width=4, clamp="smooth")
 
@@ -99,3 +99,18 @@ def test_default_window_is_valid_and_sized_for_the_stone(paper):
     width = grid.shape[0] * grid.spacing
     assert width > 4 * 2 * float(paper.radius)    # several stone diameters
     assert grid.wave_speed == pytest.approx(0.443, rel=0.01)
+
+
+@pytest.mark.parametrize("spread", [0, 2])
+def test_the_push_lands_under_the_stone_when_the_window_moves(spread):
+    """The stone's pressure dents the water where it was deposited, in world coordinates, also on
+    a water step that re-centres the window (here by two columns along x)."""
+    grid = WaterGrid(shape=(16, 16), spacing=0.01, depth=0.02, clamp="smooth")
+    impulse = jnp.zeros(grid.shape).at[8, 8].set(50.0 * 1e-3)        # 50 Pa for 1 ms at world column (8, 8)
+    f = Field(still_water(grid), jnp.zeros(2, jnp.int32), impulse, jnp.asarray(1e-3))
+    stone_at = jnp.array([0.104, 0.08, 0.01])                         # centre column (10, 8)
+    out = advance_field(grid, make_water_step(grid), f, stone_at, spread, grid.time_step)
+    np.testing.assert_array_equal(np.asarray(out.offset), [2, 0])
+    i, j = np.unravel_index(int(jnp.argmin(out.water.height)), grid.shape)
+    assert (i + 2, j) == (8, 8)                                       # the dent, in world columns
+    assert float(out.pending) == 0.0 and not np.any(np.asarray(out.impulse))
