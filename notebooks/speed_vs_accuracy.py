@@ -246,7 +246,8 @@ RUN.done(path)
 # * **Mesh.** From 32 to 512 triangles the disk's count disagreement with 1024 triangles falls
 #   from 19 % to 5 % at roughly linear cost; the paper's 38-triangle stone is at the coarse end.
 # * **Water.** The height field is *not converged* in its spacing: at 1 cm the counts differ from
-#   the 0.5 cm reference on ~60 % of throws, the first contact by ~36 % and the second touchdown
-#   by 24–44 %, whatever the clamp. It also changes the contact itself: flat water's first
-#   contact lasts ~2.8× the field's. Flat water stays the
+#   the 0.5 cm reference on ~75 % of throws, the first contact by ~21 % and the second touchdown
+#   by 26–27 %, whatever the clamp (session 13, after the fix of where the stone's push lands;
+#   before it: ~60 %, ~36 %, 24–44 %). It also changes the contact itself: flat water's first
+#   contact differs from the 0.5 cm field's by ~115 %. Flat water stays the
 #   library's default; the coupled field is an experimental option (README, "Water").
