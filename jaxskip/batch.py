@@ -167,9 +167,7 @@ def simulate_batch(
 
     n = throws.shape[0]
     lanes = min(lanes, n)
-    if sharding is not None:
-        per = len(sharding.mesh.devices.flat)
-        lanes = -(-lanes // per) * per
+    lanes = -(-lanes // n_devices) * n_devices
     advance, start, refill = _pool(config, lanes, chunk)
     host_throws = jax.tree_util.tree_map(np.asarray, throws)
     chunks_max = config.max_steps // chunk

@@ -282,12 +282,9 @@ def _net_out(qx, qy, qd, qa):
     return sum(_gather_out(qx, qy, qd, qa))
 
 
-def _split(qx, qy, qd, qa):
-    """Per column: total outgoing and incoming flow [m³/s] (each ≥ 0), ``(nx, ny)``."""
-    parts = _gather_out(qx, qy, qd, qa)
-    out = sum(jnp.maximum(p, 0.0) for p in parts)
-    inn = sum(jnp.maximum(-p, 0.0) for p in parts)
-    return out, inn
+def _outflow(parts):
+    """Per column: total outgoing flow [m³/s] (≥ 0) of :func:`_gather_out`'s 8 parts."""
+    return sum(jnp.maximum(p, 0.0) for p in parts)
 
 
 def _scale_pipes(qx, qy, qd, qa, s):
@@ -385,7 +382,7 @@ def _clamp(grid: WaterGrid, volume, flows, dt, block=None, listed: bool = False)
         volume = jax.lax.dynamic_slice(volume, (i0, j0), (bx, by))
     else:
         parts = _gather_out(*flows)    # flow out of (i, j) towards each neighbour (negative: in)
-    out = sum(jnp.maximum(p, 0.0) for p in parts)
+    out = _outflow(parts)
     incoming = tuple(jnp.maximum(-p, 0.0) for p in parts)
     need = dt * out * (1.0 + _MARGIN)     # aim a hair above zero: round-off cannot dip below
     if block is not None and listed:
@@ -438,18 +435,11 @@ def _sponge_ramp(grid: WaterGrid, n: int):
     return jnp.clip((w - d) / w, 0.0, 1.0)
 
 
-def _sponge_rate(grid: WaterGrid):
-    """Relaxation rate [1/s] at column centres: 0 inside, rising quadratically to the edge."""
-    nx, ny = grid.shape
-    r = jnp.maximum(_sponge_ramp(grid, nx)[:, None], _sponge_ramp(grid, ny)[None, :])
-    return grid.sponge_rate * r ** 2
-
-
 def _sponge_keep(grid: WaterGrid, dt):
     """The sponge's factors for a step of ``dt``: ``(column (nx, ny), (x, y, diagonal, anti-diagonal) pipes)``.
 
-    A column keeps ``1 / (1 + dt * rate)`` (implicit relaxation towards rest; :func:`_sponge_rate`),
-    a pipe the smaller factor of its two columns. The rate is ``sponge_rate * max(rx_i, ry_j)^2``
+    A column keeps ``1 / (1 + dt * rate)`` (implicit relaxation towards rest: 0 inside, rising
+    quadratically to ``sponge_rate`` at the edge), a pipe the smaller factor of its two columns. The rate is ``sponge_rate * max(rx_i, ry_j)^2``
     with one ramp per axis, and both maps are monotone, so every factor is the smaller of one per
     row and one per column: ``nx + ny`` divisions a step instead of one per column (or two per pipe)
     — the same numbers, bit for bit.
@@ -534,7 +524,7 @@ def make_water_step(grid: WaterGrid, clamp_blocks: tuple = ()):
             # under vmap all run): see _risk_margin.
             # (the flows are a conditional's operands, so XLA writes them once and the test reads them:
             # fused into it, each flow would be recomputed from the heads for each of its two columns)
-            out = jax.lax.cond(dt > 0, lambda f: _split(*f)[0], lambda f: jnp.zeros_like(volume), flows)
+            out = jax.lax.cond(dt > 0, lambda f: _outflow(_gather_out(*f)), lambda f: jnp.zeros_like(volume), flows)
             risk = _risk_margin(grid) * dt * out >= volume
             if not blocks:
                 flows = jax.lax.cond(jnp.any(risk), lambda f: _clamp(grid, volume, f, dt), lambda f: f, flows)

@@ -84,9 +84,12 @@ def _full(box: Box, values: dict) -> dict:
     return out
 
 
-def _true_counts(box: Box, values: dict, stone, config: SimConfig) -> np.ndarray:
+def _true_counts(box: Box, values: dict, stone, config: SimConfig, lanes: int | None = None,
+                 progress: bool = False) -> np.ndarray:
+    """Exact bounce counts of the throws ``values`` (user units), lane-pooled (:func:`simulate_batch`)."""
     throws = box.throws_from_user(values)
-    return simulate_batch(throws, stone, config=dataclasses.replace(config, record=False)).bounces
+    return simulate_batch(throws, stone, config=dataclasses.replace(config, record=False), lanes=lanes,
+                          progress=progress).bounces
 
 
 def _random_points(box: Box, n: int, rng) -> dict:
@@ -192,10 +195,9 @@ def gradient_search(box: Box | None = None, *, objective: str = "bounces", stone
         local = local_search(box, top_throws(history, min(4, starts)), throws=polish, scale=polish_scale,
                              stone=rigid, config=config, seed=seed, progress=progress)
         forward += local.forward_throws
-        entry = dict(local.history[0], iteration=iterations + 1)
         if local.best_bounces > best_n:
             best_n, best = local.best_bounces, local.best
-        history.append(dict(entry, best=best_n))
+        history.append(dict(local.history[0], iteration=iterations + 1, best=best_n))
     return SearchResult("gradient", best, best_n, history, box, time.perf_counter() - t0, forward,
                         starts * iterations, t_grad, t_compile)
 
@@ -207,7 +209,7 @@ def top_throws(history: list, k: int) -> dict:
     ``"points"`` of each history entry (:func:`gradient_search` records them).
     """
     k = check_int("k", k, minimum=1)
-    names = [n for n in history[0]["points"]] if history and "points" in history[0] else []
+    names = list(history[0]["points"]) if history and "points" in history[0] else []
     if not names:
         raise ParameterError("history has no points: top_throws needs a gradient_search history")
     pts = np.stack([np.concatenate([np.asarray(h["points"][n], float) for h in history if "points" in h])
@@ -259,10 +261,7 @@ def local_search(box: Box, centres: dict, *, throws: int = 256, scale: float = 0
         c = np.atleast_1d(np.asarray(centres[name], dtype=float))[pick]
         values[name] = np.clip(c + scale * (hi - lo) * rng.standard_normal(n), lo, hi)
     rigid, _ = resolve_stone(stone)
-    throws_ = box.throws_from_user(values)
-    r = simulate_batch(throws_, rigid, config=dataclasses.replace(config, record=False), lanes=lanes,
-                       progress=progress)
-    counts = r.bounces
+    counts = _true_counts(box, values, rigid, config, lanes, progress)
     i = int(np.argmax(counts))
     best = _full(box, {k: v[i] for k, v in values.items()})
     hist = [{"iteration": 0, "phase": "polish", "bounces": counts.tolist(), "objective": None,
@@ -343,15 +342,12 @@ def grid_points(box: Box, per_axis: int) -> dict:
 def _exhaustive(method: str, box: Box, values: dict, stone, config: SimConfig, lanes: int, progress: bool):
     t0 = time.perf_counter()
     rigid, _ = resolve_stone(stone)
-    throws = box.throws_from_user(values)
-    r = simulate_batch(throws, rigid, config=dataclasses.replace(config, record=False), lanes=lanes,
-                       progress=progress)
-    i = int(np.argmax(r.bounces))
-    n = int(np.size(r.bounces))
+    counts = _true_counts(box, values, rigid, config, lanes, progress)
+    i = int(np.argmax(counts))
     best = _full(box, {k: v[i] for k, v in values.items()})
-    hist = [{"iteration": 0, "bounces": [int(r.bounces[i])], "objective": None, "best": int(r.bounces[i]),
-             "nonfinite": 0, "count_histogram": np.bincount(r.bounces).tolist()}]
-    return SearchResult(method, best, int(r.bounces[i]), hist, box, time.perf_counter() - t0, n, 0)
+    hist = [{"iteration": 0, "bounces": [int(counts[i])], "objective": None, "best": int(counts[i]),
+             "nonfinite": 0, "count_histogram": np.bincount(counts).tolist()}]
+    return SearchResult(method, best, int(counts[i]), hist, box, time.perf_counter() - t0, int(counts.size), 0)
 
 
 def grid_search(box: Box | None = None, *, per_axis: int = 10, stone="paper", config: SimConfig | None = None,

@@ -167,7 +167,11 @@ def test_local_search_bad_input(centres, kwargs, message):
     box = make_box({"speed": (3.0, 10.0)}, held={"tilt": 20.0, "attack": 10.0, "spin": 15.0})
     with pytest.raises(ParameterError, match=message):
         local_search(box, centres, **kwargs)
-    if not kwargs and centres:
-        return
-    with pytest.raises(ParameterError, match="polish"):
-        gradient_search(box, polish=-1)
+
+
+@pytest.mark.parametrize("kwargs, message", [({"polish": -1}, "polish"), ({"polish_scale": 0.0}, "polish_scale"),
+                                             ({"horizon": 0}, "horizon")])
+def test_gradient_search_bad_polish_and_horizon(kwargs, message):
+    box = make_box({"speed": (3.0, 10.0)}, held={"tilt": 20.0, "attack": 10.0, "spin": 15.0})
+    with pytest.raises(ParameterError, match=message):
+        gradient_search(box, **kwargs)
