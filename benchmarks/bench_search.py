@@ -18,6 +18,7 @@ random throws. Timings include compilation where stated; float64 throughout.
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import json
 import time
 
@@ -47,6 +48,79 @@ def _baselines(box, config, starts, iterations, equiv, out):
     return ps, rs
 
 
+def _chaos(box, config, n, horizons, out, seed=11, delta=0.5):
+    """Why pathwise gradients fail on the bounce count: their size against the horizon.
+
+    For ``n`` random throws of the box and each horizon (steps the surrogate is differentiated
+    through), prints the 50/90/99th percentiles of the raw gradient norm (unconstrained units, as
+    the search sees it) and of |dN/dspin| [bounces per rev/s], the pathwise estimate of the mean's
+    slope in spin (mean over the throws, with a bootstrap 5-95 % interval) against the slope of the
+    mean from central differences of +-``delta`` rev/s (the same throws), and, for the whole
+    rollout, the same slope of the mean *true* count. The growth of the 99th percentile between
+    horizons gives the e-folding length of the gradient's tail (the rollout's Lyapunov time).
+    """
+    rigid, _ = resolve_stone("paper")
+    water = water_params()
+    rng = np.random.default_rng(seed)
+    pts = {name: rng.uniform(lo, hi, n) for name, lo, hi in box.searched}
+    lo, hi = dict((nm, (a, b)) for nm, a, b in box.searched)["spin"]
+    pts["spin"] = np.clip(pts["spin"], lo + delta, hi - delta)
+    k = box.names.index("spin")
+    u0 = box.from_user(pts)
+    res = {"throws": n, "delta_rev_s": delta, "horizons": {}}
+    print(f"chaos: pathwise gradients of the smooth count over {n} random throws, horizons {list(horizons)} steps ...",
+          flush=True)
+    for h in horizons:
+        f = make_objective("bounces", dataclasses.replace(config, max_steps=h), rigid, water)
+        vg = jax.jit(lambda u, f=f: jax.lax.map(jax.value_and_grad(lambda ui: f(box.to_throw(ui))), u))
+        t0 = time.perf_counter()
+        v, g = (np.asarray(a) for a in vg(u0))
+        wall = time.perf_counter() - t0
+        s = 1.0 / (1.0 + np.exp(-u0[:, k]))
+        dspin = g[:, k] / ((hi - lo) * s * (1.0 - s))            # d N / d spin [per rev/s]
+        up = dict(pts, spin=pts["spin"] + delta)
+        dn = dict(pts, spin=pts["spin"] - delta)
+        vu, _ = vg(box.from_user(up))
+        vd, _ = vg(box.from_user(dn))
+        fd = float(np.mean(np.asarray(vu) - np.asarray(vd)) / (2 * delta))
+        ok = np.all(np.isfinite(g), axis=1)
+        norm = np.linalg.norm(g[ok], axis=1)
+        boot = [np.mean(dspin[ok][rng.integers(0, ok.sum(), ok.sum())]) for _ in range(1000)]
+        r = {"finite": int(ok.sum()), "norm_p50": float(np.percentile(norm, 50)), "norm_p90": float(np.percentile(norm, 90)),
+             "norm_p99": float(np.percentile(norm, 99)), "dspin_p99": float(np.percentile(np.abs(dspin[ok]), 99)),
+             "pathwise_mean": float(np.mean(dspin[ok])), "pathwise_5": float(np.percentile(boot, 5)),
+             "pathwise_95": float(np.percentile(boot, 95)), "fd_mean_soft": fd, "mean_soft": float(np.mean(v)),
+             "wall_s": wall}
+        if h == config.max_steps:
+            cu = _true_counts_of(box, up, rigid, config)
+            cd = _true_counts_of(box, dn, rigid, config)
+            r["fd_mean_true"] = float(np.mean(cu - cd) / (2 * delta))
+        res["horizons"][str(h)] = r
+        print(f"  {h:6d} steps: |grad| p50 {r['norm_p50']:.3g}, p90 {r['norm_p90']:.3g}, p99 {r['norm_p99']:.3g}; "
+              f"|dN/dspin| p99 {r['dspin_p99']:.3g} per rev/s; pathwise mean slope {r['pathwise_mean']:.3g} "
+              f"(5-95 %: {r['pathwise_5']:.3g} .. {r['pathwise_95']:.3g}) vs slope of the mean {fd:.3f} per rev/s"
+              + (f"; true count's {r['fd_mean_true']:.3f}" if "fd_mean_true" in r else ""), flush=True)
+    # The tail's growth between successive horizons, as an e-folding length: early on, while most
+    # throws are still in the water, it measures the rollout's Lyapunov exponent; later the throws
+    # that have ended stop contributing and the growth slows.
+    res["efold_steps"] = {}
+    for a, b in zip(horizons[:-1], horizons[1:]):
+        pa, pb = res["horizons"][str(a)]["norm_p99"], res["horizons"][str(b)]["norm_p99"]
+        if pa > 0 and pb > pa:
+            n_e = (b - a) / np.log(pb / pa)
+            res["efold_steps"][f"{a}-{b}"] = float(n_e)
+            print(f"  {a}-{b} steps: the 99th percentile grows e-fold every {n_e:.0f} steps "
+                  f"({n_e * config.dt * 1e3:.0f} ms of contact; {1.0 / (n_e * config.dt):.0f} /s)")
+    out["chaos"] = res
+    return res
+
+
+def _true_counts_of(box, values, rigid, config):
+    from jaxskip import simulate_batch
+
+    return simulate_batch(box.throws_from_user(values), rigid, config=dataclasses.replace(config, record=False)).bounces
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--quick", action="store_true", help="6^4 grid, 2 starts, 500 gradients")
@@ -60,6 +134,12 @@ def main(argv=None):
                     help="steps the surrogate is differentiated through (default: the whole rollout)")
     ap.add_argument("--polish-scale", type=float, default=0.03,
                     help="polish perturbation as a fraction of each range (default 0.03)")
+    ap.add_argument("--chaos-throws", type=int, default=None,
+                    help="random throws for the chaos section (pathwise gradients against the horizon; "
+                         "default 256, 64 with --quick; 0 skips it)")
+    ap.add_argument("--chaos-horizons", default="400,1200,3000,12000",
+                    help="horizons [steps] of the chaos section (default 400,1200,3000,12000)")
+    ap.add_argument("--chaos-only", action="store_true", help="run the chaos section alone")
     ap.add_argument("--json", metavar="PATH")
     args = ap.parse_args(argv)
     per_axis = args.per_axis or (6 if args.quick else 10)
@@ -68,6 +148,14 @@ def main(argv=None):
     box = make_box()
     config = SimConfig()
     out = {"per_axis": per_axis, "starts": starts, "iterations": args.iterations}
+    n_chaos = args.chaos_throws if args.chaos_throws is not None else (64 if args.quick else 256)
+    horizons = [int(h) for h in args.chaos_horizons.split(",")]
+    if args.chaos_only:
+        _chaos(box, config, n_chaos, horizons, out)
+        if args.json:
+            with open(args.json, "w") as fh:
+                json.dump(out, fh, indent=1, default=float)
+        return
 
     print(f"exhaustive grid: {per_axis}^4 = {per_axis ** 4} throws ...", flush=True)
     grid = grid_search(box, per_axis=per_axis, config=config, progress=True)
@@ -153,6 +241,9 @@ def main(argv=None):
     print(f"  finite {finite}/{n_finite}, non-zero {nonzero}/{n_finite}; {time.perf_counter() - t0:.0f} s; "
           f"|gradient| per unit u: median {np.median(norms):.3g}, 90th percentile {np.percentile(norms, 90):.3g} "
           f"(a chaotic count: a step of 1e-3 in u changes the surrogate by ~|g| * 1e-3 bounces)")
+
+    if n_chaos:
+        _chaos(box, config, n_chaos, horizons, out)
 
     print("\nSUMMARY")
     print(f"  grid G = {G} ({grid.forward_throws} throws, {grid.wall_time:.1f} s)")

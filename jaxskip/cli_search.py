@@ -102,7 +102,8 @@ def run_optimize(args) -> int:
     import jax
 
     jax.config.update("jax_enable_x64", True)
-    from optimize import gradient_search, grid_search, make_box, perturbation_search, plot_search, random_search
+    from optimize import (EXPLODING, VANISHING, gradient_health, gradient_search, grid_search, make_box, perturbation_search,
+                          plot_search, random_search)
 
     from . import SimConfig
     from .api import resolve_stone
@@ -134,8 +135,11 @@ def run_optimize(args) -> int:
                           progress=progress)
     if args.plot:
         plot_search(r, args.plot)
+    health = gradient_health(r)
     if args.json:
         out = r.to_dict()
+        if health is not None:
+            out["gradient_norms"] = health
         out["config"] = {"stone": args.stone, "attitude": args.attitude, **{
             k: v for k, v in dataclasses.asdict(config).items() if k in ("dt", "max_steps", "duration")}}
         if args.plot:
@@ -147,6 +151,15 @@ def run_optimize(args) -> int:
               f"{b['tilt']:.1f} deg, attack {b['attack']:.1f} deg, spin {b['spin']:.1f} rev/s")
         print(f"cost: {r.forward_throws} exact throws, {r.gradient_evals} gradient evaluations, "
               f"{r.wall_time:.1f} s wall")
+        if health is not None:
+            fmt = lambda v: "n/a" if v is None else f"{v:.3g}"  # noqa: E731
+            st = health["starts"]
+            print(f"gradient norms (unconstrained units, before clipping): median {fmt(health['median'])}, "
+                  f"max {fmt(health['max'])}; exploding (> {EXPLODING:g}) on {st['exploding']} of {st['n']} starts, "
+                  f"vanishing (< {VANISHING:g}) on {st['vanishing']}")
+            if st["exploding"]:
+                print("  an exploding gradient comes from the rollout's chaos, not the count's trend: its step is "
+                      "noise (a shorter --horizon tames it; --polish N samples exact throws near the best)")
         if args.plot:
             print(f"picture: {args.plot}")
     return 0

@@ -78,6 +78,44 @@ class SearchResult:
                 "gradient_time": self.gradient_time, "compile_time": self.compile_time}
 
 
+#: Raw gradient norm (per unit of the unconstrained coordinates, before clipping) above which
+#: :func:`gradient_health` calls a gradient exploding. The smooth count's real slopes across the
+#: box are a few bounces per unit (its mean changes by tens of bounces across a range, ~10
+#: units); norms beyond 1e3 come from the rollout's chaos (benchmarks/README.md, session 14:
+#: the tail of the norms grows e-fold every ~150-190 contact steps, 40-50 ms, to ~1e13 over a
+#: whole throw), and the clipped step then follows noise.
+EXPLODING = 1e3
+#: Raw gradient norm below which :func:`gradient_health` calls a gradient vanishing: the smooth
+#: count is flat there (typically a throw that sinks at its first contact).
+VANISHING = 1e-6
+
+
+def gradient_health(result: SearchResult) -> dict | None:
+    """Summary of a gradient search's raw gradient norms (gradient-norm monitoring).
+
+    Returns ``None`` for a search without gradients, else a dict: ``median`` and ``max`` of the
+    finite norms (unconstrained units), ``of`` (evaluations), ``exploding`` (evaluations above
+    :data:`EXPLODING`, or non-finite), ``vanishing`` (below :data:`VANISHING`), and per start
+    ``starts`` = {``"n"``, ``"exploding"``: starts with an exploding gradient at some
+    iteration, ``"vanishing"``: starts whose gradients all vanished}. An exploding start follows
+    the rollout's chaos rather than the count's trend (a shorter ``horizon`` tames it); a
+    vanishing one has nothing to climb.
+    """
+    rows = [h["grad_norm"] for h in result.history if h.get("grad_norm")]
+    if not rows:
+        return None
+    norms = [v for r in rows for v in r]
+    finite = np.array([v for v in norms if v is not None], dtype=float)
+    big = lambda v: v is None or v > EXPLODING  # noqa: E731
+    small = lambda v: v is not None and v < VANISHING  # noqa: E731
+    per_start = list(zip(*rows))
+    return {"median": float(np.median(finite)) if finite.size else None,
+            "max": float(np.max(finite)) if finite.size else None,
+            "of": len(norms), "exploding": sum(map(big, norms)), "vanishing": sum(map(small, norms)),
+            "starts": {"n": len(per_start), "exploding": sum(any(map(big, c)) for c in per_start),
+                       "vanishing": sum(all(map(small, c)) for c in per_start)}}
+
+
 def _full(box: Box, values: dict) -> dict:
     out = dict(box.held)
     out.update({k: float(v) for k, v in values.items()})
@@ -114,6 +152,9 @@ def gradient_search(box: Box | None = None, *, objective: str = "bounces", stone
     best distinct throws the ascent visited, each parameter perturbed by ``polish_scale`` times
     its searched range (0: no polish). The history then ends with an entry of ``"phase":
     "polish"``; every entry lists the throws it simulated under ``"points"`` (user units).
+    Every iteration's history entry records each start's raw gradient norm (``"grad_norm"``,
+    unconstrained coordinates, before clipping; ``None`` where non-finite): see
+    :func:`gradient_health` and :data:`EXPLODING`.
     ``horizon``: steps of the rollout the surrogate is differentiated through (default: all of
     ``config.max_steps``). A short horizon (e.g. 1200 steps, 0.3 s of contacts) is truncated
     backpropagation: cheaper gradients (4 against 15 ms, measured) that see only the first
@@ -183,12 +224,16 @@ def gradient_search(box: Box | None = None, *, objective: str = "bounces", stone
         t_grad += time.perf_counter() - t1
         g = np.asarray(g)  # (starts, P): checked on the host (eager jnp ops would compile each)
         finite = np.all(np.isfinite(g), axis=-1)
+        norms = [float(v) if ok else None for v, ok in zip(np.linalg.norm(np.where(finite[:, None], g, 0.0), axis=-1),
+                                                           finite)]
         u, state = step_opt(float_array(np.where(finite[:, None], g, 0.0)), state, u)
         history.append({"iteration": it, "bounces": counts.tolist(), "objective": np.asarray(obj).tolist(),
-                        "best": best_n, "nonfinite": int(np.sum(~np.asarray(finite))), "points": points})
+                        "best": best_n, "nonfinite": int(np.sum(~np.asarray(finite))), "points": points,
+                        "grad_norm": norms})
         if progress:
+            big = sum(1 for v in norms if v is None or v > EXPLODING)
             print(f"\r  iteration {it + 1}/{iterations}: best {best_n} bounces, surrogate mean "
-                  f"{float(np.mean(obj)):.2f}", end="", file=sys.stderr, flush=True)
+                  f"{float(np.mean(obj)):.2f}, {big}/{starts} gradients exploding", end="", file=sys.stderr, flush=True)
     if progress:
         print(file=sys.stderr)
     if polish:
@@ -369,13 +414,17 @@ def random_search(box: Box | None = None, *, throws: int = 1000, stone="paper", 
 
 
 def plot_search(result: SearchResult, path) -> None:
-    """Best true count so far and every start's true count per iteration."""
+    """Best true count so far and every start's true count per iteration; for a gradient search,
+    a second panel with every start's raw gradient norm per iteration (log scale, with
+    :data:`EXPLODING` marked): gradient-norm monitoring at a glance."""
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    fig, ax = plt.subplots(figsize=(6.4, 4.0))
+    norms = [h for h in result.history if h.get("grad_norm")]
+    fig, axes = plt.subplots(1, 2 if norms else 1, figsize=(11.0 if norms else 6.4, 4.0), squeeze=False)
+    ax = axes[0, 0]
     steps = [h for h in result.history if h.get("phase") != "polish"]
     its = [h["iteration"] for h in steps]
     per = np.array([h["bounces"] for h in steps], dtype=float)
@@ -393,10 +442,21 @@ def plot_search(result: SearchResult, path) -> None:
     ax.set_title(f"{result.method} search: {result.best_bounces} bounces at {b['speed']:.1f} m/s, "
                  f"tilt {b['tilt']:.0f}°, attack {b['attack']:.0f}°, {b['spin']:.0f} rev/s", fontsize=9)
     ax.legend(fontsize=8)
+    if norms:
+        ax = axes[0, 1]
+        g = np.array([[np.nan if v is None else v for v in h["grad_norm"]] for h in norms], dtype=float)
+        ax.semilogy([h["iteration"] for h in norms], g, "o-", ms=3, lw=0.8, alpha=0.7)
+        ax.axhline(EXPLODING, color="C3", ls="--", lw=1, label=f"exploding (> {EXPLODING:g}): chaos, not trend")
+        ax.set_xlabel("iteration")
+        ax.set_ylabel("raw gradient norm per start (unconstrained units)")
+        health = gradient_health(result)
+        ax.set_title(f"raw gradient norms: exploding on {health['starts']['exploding']} of "
+                     f"{health['starts']['n']} starts, vanishing on {health['starts']['vanishing']}", fontsize=9)
+        ax.legend(fontsize=8)
     fig.tight_layout()
     fig.savefig(path, dpi=120)
     plt.close(fig)
 
 
-__all__ = ["SearchResult", "gradient_search", "grid_points", "grid_search", "local_search", "perturbation_search",
+__all__ = ["EXPLODING", "VANISHING", "SearchResult", "gradient_health", "gradient_search", "grid_points", "grid_search", "local_search", "perturbation_search",
            "plot_search", "random_search", "top_throws"]

@@ -52,3 +52,18 @@ def test_optimize_random_json(capsys):
     r = json.loads(capsys.readouterr().out)
     assert r["method"] == "random" and r["forward_throws"] == 16 and r["best_bounces"] >= 1
     assert set(r["best"]) == {"speed", "tilt", "attack", "spin"}
+
+
+def test_optimize_gradient_reports_gradient_norms(tmp_path, capsys):
+    """Gradient-norm monitoring at the CLI: a line of text (and a picture panel), a JSON summary."""
+    argv = ["optimize", "--method", "gradient", "--starts", "2", "--iterations", "1", "--attitude", "fixed",
+            "--speed-range", "5", "7", "--tilt", "20", "--attack", "10", "--spin", "10"]
+    assert main(argv + ["--plot", str(tmp_path / "search.png")]) == 0
+    text = capsys.readouterr().out
+    assert "gradient norms (unconstrained units, before clipping): median" in text
+    assert (tmp_path / "search.png").stat().st_size > 10_000
+    assert main(argv + ["--json"]) == 0
+    r = json.loads(capsys.readouterr().out)
+    h = r["gradient_norms"]
+    assert h["of"] == 2 and h["starts"]["n"] == 2 and h["max"] >= h["median"] >= 0.0
+    assert r["history"][0]["grad_norm"] and len(r["history"][0]["grad_norm"]) == 2

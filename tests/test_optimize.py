@@ -9,7 +9,9 @@ import numpy as np
 import pytest
 
 from jaxskip import ParameterError, SimConfig, Throw, rollout, simulate_batch
-from optimize import gradient_search, local_search, make_box, make_objective, top_throws
+from optimize import (EXPLODING, VANISHING, gradient_health, gradient_search, local_search, make_box,
+                      make_objective, top_throws)
+from optimize.search import SearchResult
 from optimize.objectives import soft_bounce_count, soft_bounce_rollout
 
 FIELDS = ("speed", "tilt", "attack", "spin")
@@ -112,7 +114,7 @@ def test_box_reparameterisation_stays_inside():
     np.testing.assert_allclose([back["speed"][0], back["tilt"][0]], [4.0, 30.0], rtol=1e-9)
 
 
-def test_gradient_search_improves_a_poor_throw():
+def test_gradient_search_improves_a_poor_throw(paper, water):
     """From slow, shallow starts the search finds more bounces (true counts, exact simulation)."""
     box = make_box({"speed": (2.0, 10.0), "attack": (0.0, 30.0)}, held={"tilt": 20.0, "spin": 15.0})
     config = SimConfig(max_steps=3000, attitude="fixed")
@@ -121,6 +123,15 @@ def test_gradient_search_improves_a_poor_throw():
     assert last > first, [h["bounces"] for h in r.history]
     assert r.best_bounces == last and r.gradient_evals == 12 and len(r.history) == 7
     assert set(r.best) == set(FIELDS)
+    # Gradient-norm monitoring: each iteration records every start's raw gradient norm, which is
+    # the norm of the surrogate's gradient at that start's throw (recomputed here on its own).
+    assert all(len(h["grad_norm"]) == 2 for h in r.history[:-1]) and "grad_norm" not in r.history[-1]
+    f = make_objective("bounces", config, paper, water)
+    u = box.from_user({k: np.asarray(v) for k, v in r.history[0]["points"].items()})
+    g = jax.jit(jax.vmap(jax.grad(lambda ui: f(box.to_throw(ui)))))(jnp.asarray(u))
+    np.testing.assert_allclose(r.history[0]["grad_norm"], np.linalg.norm(np.asarray(g), axis=-1), rtol=1e-6)
+    health = gradient_health(r)
+    assert health["of"] == 12 and health["starts"]["n"] == 2 and health["max"] >= health["median"] > 0.0
 
 
 def test_polish_samples_near_the_best_throws_and_counts_exactly():
@@ -146,6 +157,19 @@ def test_polish_samples_near_the_best_throws_and_counts_exactly():
     again = simulate_batch(box.throws_from_user({k: np.array([v[i]]) for k, v in polish["points"].items()}),
                            config=dataclasses.replace(config, record=False))
     assert int(again.bounces[0]) == polish["bounces"][i]
+
+
+def test_gradient_health_counts_exploding_and_vanishing_gradients():
+    """Three starts over two iterations: start 0 vanishes throughout, start 1 turns non-finite,
+    start 2 explodes once."""
+    history = [{"grad_norm": [1e-8, 5.0, 10 * EXPLODING]}, {"grad_norm": [0.1 * VANISHING, None, 2.0]},
+               {"bounces": [1, 2, 3]}]                                  # (the last entry: no gradients)
+    r = SearchResult("gradient", {}, 3, history, make_box(), 1.0, 9, 6)
+    h = gradient_health(r)
+    assert h["of"] == 6 and h["exploding"] == 2 and h["vanishing"] == 2
+    assert h["starts"] == {"n": 3, "exploding": 2, "vanishing": 1}
+    assert h["median"] == 2.0 and h["max"] == 10 * EXPLODING
+    assert gradient_health(dataclasses.replace(r, history=[{"bounces": [1]}])) is None
 
 
 def test_top_throws_are_distinct_and_best_first():
