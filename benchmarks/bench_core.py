@@ -23,7 +23,7 @@ How it measures
 * The stone is ``rigid_stone(paper_stone(), density=2650.0)`` (38 triangles),
   the water ``water_params()``, the model ``SimConfig()`` defaults (Bocquet law,
   free attitude, semi-implicit Euler, conservative-advancement flight,
-  ``max_steps=12000``, ``dt=2.5e-4`` s) unless a section says otherwise.
+  ``max_steps`` 20000 (12000 before session 14), ``dt=2.5e-4`` s) unless a section says otherwise.
 * A jaxskip rollout is a fixed-length ``lax.scan`` of ``max_steps`` steps.
   Sections report how many of them were *alive* (advanced the stone): for one
   throw the steps after it is out of play may be cheap (if the step skips them
@@ -87,7 +87,7 @@ MODES = {
         "pool_grid": 64, "pool_lanes": (None, 256, 1024), "pool_dtypes": ("f32", "f64"),
     },
 }
-"""Sizes per mode. 12000 steps = SimConfig().max_steps; the grid is 64 x 64 in both modes (fewer steps
+"""Sizes per mode. 12000 steps (SimConfig().max_steps until session 14; every throw here ends sooner); the grid is 64 x 64 in both modes (fewer steps
 in quick mode, extrapolated); ``--grid-steps`` overrides the grid's steps (12000 measures to completion)."""
 
 TILT_RANGE = (5.0, 45.0)  # deg

@@ -62,7 +62,8 @@ def build_parser() -> argparse.ArgumentParser:
     t.add_argument("--integrator", choices=("euler", "rk4"), default="euler", help="time integrator (default euler)")
     t.add_argument("--duration", type=_float("--duration"), default=5.0, metavar="S", help="simulated time limit [s] (default 5)")
     t.add_argument("--dt", type=_float("--dt"), default=2.5e-4, metavar="S", help="time step in contact [s] (default 2.5e-4)")
-    t.add_argument("--max-steps", type=int, default=12000, metavar="N", help="step budget (default 12000)")
+    t.add_argument("--max-steps", type=int, default=None, metavar="N",
+                   help="step budget (default: enough to spend --duration in the water at --dt; 20000 at the defaults)")
     t.add_argument("--json", action="store_true", help="print one JSON object on stdout")
     t.add_argument("--plot", metavar="PATH", default=None, help="write the side view (PNG/PDF/SVG)")
     t.add_argument("--water", choices=("flat", "field"), default="flat",
@@ -105,10 +106,12 @@ def _throw(args) -> int:
     jax.config.update("jax_enable_x64", True)  # results match the float64 test suite
     from . import ForceModel, SimConfig, Throw, simulate, water_params
     from .api import resolve_stone
+    from .simulate import steps_for
 
     throw = Throw.from_degrees(speed=args.speed, tilt=args.tilt, attack=args.attack, spin=args.spin,
                                height=args.height, heading=args.heading)
-    config = SimConfig(dt=args.dt, duration=args.duration, max_steps=args.max_steps, integrator=args.integrator,
+    max_steps = steps_for(args.duration, args.dt) if args.max_steps is None else args.max_steps
+    config = SimConfig(dt=args.dt, duration=args.duration, max_steps=max_steps, integrator=args.integrator,
                        attitude=args.attitude, force=ForceModel(law=args.force_law, velocity=args.velocity))
     water = water_params(args.force_law, c_lift=args.c_lift, c_friction=args.c_friction)
     stone, _ = resolve_stone(args.stone, mass=args.mass, density=args.density)

@@ -97,3 +97,13 @@ def test_dt_convergence_of_the_fixed_attitude_throw(paper, water):
         s, tr, _ = jax.jit(lambda t: rollout(config, t, paper, water))(Throw.from_degrees())
         res.append((float(s.position[0]), int(tr.bounces)))
     assert abs(res[0][0] / res[1][0] - 1) < 0.01 and abs(res[0][1] - res[1][1]) <= 1, res
+
+
+def test_default_step_budget_lets_a_fast_flat_throw_finish():
+    """A fast, flat, spun throw planes for over 3 s of contact (more than the 12000 steps the budget
+    once was): at the defaults it still ends on its own (sank), not by running out of steps; the
+    default budget covers the whole ``duration`` in the water."""
+    config = SimConfig()
+    assert config.max_steps * config.dt >= config.duration
+    r = simulate(Throw.from_degrees(speed=12.0, tilt=10.06, attack=0.0, spin=20.0))
+    assert r.outcome != "step_limit" and r.steps > 12000 and r.final_time > 3.0, (r.outcome, r.steps, r.final_time)
