@@ -57,13 +57,15 @@ def test_optimize_random_json(capsys):
 def test_optimize_gradient_reports_gradient_norms(tmp_path, capsys):
     """Gradient-norm monitoring at the CLI: a line of text (and a picture panel), a JSON summary."""
     argv = ["optimize", "--method", "gradient", "--starts", "2", "--iterations", "1", "--attitude", "fixed",
-            "--speed-range", "5", "7", "--tilt", "20", "--attack", "10", "--spin", "10"]
+            "--speed-range", "5", "7", "--tilt", "20", "--attack", "10", "--spin", "10", "--polish", "8"]
     assert main(argv + ["--plot", str(tmp_path / "search.png")]) == 0
     text = capsys.readouterr().out
     assert "gradient norms (unconstrained units, before clipping): median" in text
+    assert "the polish (8 exact throws near its best throws)" in text
     assert (tmp_path / "search.png").stat().st_size > 10_000
     assert main(argv + ["--json"]) == 0
     r = json.loads(capsys.readouterr().out)
     h = r["gradient_norms"]
     assert h["of"] == 2 and h["starts"]["n"] == 2 and h["max"] >= h["median"] >= 0.0
+    assert r["forward_throws"] == 2 * 2 + 8 and r["history"][-1]["phase"] == "polish"
     assert r["history"][0]["grad_norm"] and len(r["history"][0]["grad_norm"]) == 2
