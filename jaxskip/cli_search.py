@@ -36,9 +36,12 @@ def add_parsers(sub, number) -> None:
     o.add_argument("--learning-rate", type=number("--learning-rate"), default=0.3, metavar="LR",
                    help="Adam step in the unconstrained coordinates (default 0.3)")
     o.add_argument("--polish", type=int, default=256, metavar="N",
-                   help="(gradient) exact throws sampled near the best throws found, after the ascent (default 256; "
+                   help="(gradient, perturbation) exact throws sampled near the best throws found, after the ascent "
+                        "(default 256; "
                         "0: none). The free stone's count is chaotic: sampling near the ascent's best finds more "
                         "than the ascent (21 -> 51 bounces in the default search)")
+    o.add_argument("--samples", type=int, default=8, metavar="N",
+                   help="(perturbation) antithetic pairs of exact throws per start and iteration (default 8)")
     o.add_argument("--horizon", type=int, default=None, metavar="STEPS",
                    help="(gradient) steps the surrogate is differentiated through (default: the whole rollout)")
     o.add_argument("--per-axis", type=int, default=6, metavar="N", help="grid points per searched parameter (grid)")
@@ -129,7 +132,7 @@ def run_optimize(args) -> int:
     elif args.method == "perturbation":
         r = perturbation_search(box, stone=args.stone, config=config, starts=args.starts,
                                 iterations=args.iterations, learning_rate=args.learning_rate, seed=args.seed,
-                                progress=progress)
+                                samples=args.samples, polish=args.polish, progress=progress)
     elif args.method == "grid":
         r = grid_search(box, per_axis=args.per_axis, stone=args.stone, config=config, progress=progress)
     else:
@@ -155,7 +158,7 @@ def run_optimize(args) -> int:
               f"{r.wall_time:.1f} s wall")
         polish = [h for h in r.history if h.get("phase") == "polish"]
         if polish:
-            ascent = max(b for h in r.history if h.get("phase") != "polish" for b in h["bounces"])
+            ascent = max(h["best"] for h in r.history if h.get("phase") != "polish")
             print(f"  the ascent's best: {ascent} bounces; the polish ({len(polish[0]['bounces'])} exact throws near "
                   f"its best throws): {max(polish[0]['bounces'])}")
         if health is not None:

@@ -237,14 +237,23 @@ def gradient_search(box: Box | None = None, *, objective: str = "bounces", stone
     if progress:
         print(file=sys.stderr)
     if polish:
-        local = local_search(box, top_throws(history, min(4, starts)), throws=polish, scale=polish_scale,
-                             stone=rigid, config=config, seed=seed, progress=progress)
-        forward += local.forward_throws
-        if local.best_bounces > best_n:
-            best_n, best = local.best_bounces, local.best
-        history.append(dict(local.history[0], iteration=iterations + 1, best=best_n))
+        best_n, best, forward = _polish(box, history, min(4, starts), polish, polish_scale, rigid, config, seed,
+                                        progress, best_n, best, forward, iterations + 1)
     return SearchResult("gradient", best, best_n, history, box, time.perf_counter() - t0, forward,
                         starts * iterations, t_grad, t_compile)
+
+
+def _polish(box, visited, k, throws, scale, rigid, config, seed, progress, best_n, best, forward, iteration):
+    """:func:`local_search` of ``throws`` exact throws around the ``k`` best distinct throws in
+    ``visited`` (entries with ``"points"`` and ``"bounces"``); appends the polish's history entry
+    (``"phase": "polish"``) to ``visited`` and returns the updated ``(best_n, best, forward)``."""
+    local = local_search(box, top_throws(visited, k), throws=throws, scale=scale, stone=rigid, config=config,
+                         seed=seed, progress=progress)
+    forward += local.forward_throws
+    if local.best_bounces > best_n:
+        best_n, best = local.best_bounces, local.best
+    visited.append(dict(local.history[0], iteration=iteration, best=best_n))
+    return best_n, best, forward
 
 
 def top_throws(history: list, k: int) -> dict:
@@ -332,12 +341,18 @@ def _ascend(opt, g, state, u):
 
 def perturbation_search(box: Box | None = None, *, stone="paper", config: SimConfig | None = None,
                         starts: int = 8, iterations: int = 20, samples: int = 8, sigma: float = 0.3,
-                        learning_rate: float = 0.3, seed: int = 0, progress: bool = False) -> SearchResult:
+                        learning_rate: float = 0.3, seed: int = 0, polish: int = 0, polish_scale: float = 0.03,
+                        progress: bool = False) -> SearchResult:
     r"""Randomised smoothing: ascend :math:`E[N(u + \sigma\epsilon)]` with antithetic estimates.
 
     The gradient of the smoothed exact count at ``u`` (unconstrained coordinates) is
     :math:`\frac{1}{2\sigma m}\sum_k [N(u+\sigma\epsilon_k) - N(u-\sigma\epsilon_k)]\,\epsilon_k`
-    over ``samples`` = m pairs; every count is an exact simulation.
+    over ``samples`` = m pairs; every count is an exact simulation. Nothing is differentiated,
+    so the rollout's chaos (its pathwise gradients grow e-fold every ~40-50 ms of contact,
+    benchmarks/README.md) does not reach the estimate: it is the estimator a chaotic count calls
+    for. ``polish``/``polish_scale`` as in :func:`gradient_search`: exact throws near the best
+    (up to 4) distinct throws evaluated, centres and samples alike. Every history entry lists the
+    centres it simulated under ``"points"`` (their counts under ``"bounces"``).
     """
     t0 = time.perf_counter()
     box = make_box() if box is None else box
@@ -345,7 +360,10 @@ def perturbation_search(box: Box | None = None, *, stone="paper", config: SimCon
     starts = check_int("starts", starts, minimum=1, maximum=4096)
     iterations = check_int("iterations", iterations, minimum=1, maximum=100_000)
     samples = check_int("samples", samples, minimum=1, maximum=4096)
+    polish = check_int("polish", polish, minimum=0, maximum=100_000_000)
+    check_range("polish_scale", polish_scale, 0.0, 1.0, low_open=True)
     check_positive("sigma", sigma)
+    check_positive("learning_rate", learning_rate)
     rigid, _ = resolve_stone(stone)
     rng = np.random.default_rng(seed)
     u = box.from_user(_random_points(box, starts, rng))
@@ -353,7 +371,7 @@ def perturbation_search(box: Box | None = None, *, stone="paper", config: SimCon
     state = jax.vmap(opt.init)(jnp.asarray(u))
     step_opt = jax.jit(jax.vmap(lambda g, s, u: _ascend(opt, g, s, u)))
     p = u.shape[-1]
-    history, best, best_n, forward = [], None, -1, 0
+    history, visited, best, best_n, forward = [], [], None, -1, 0
     for it in range(iterations):
         eps = rng.standard_normal((starts, samples, p))
         pts = np.concatenate([u[:, None, :] + sigma * eps, u[:, None, :] - sigma * eps, u[:, None, :]], axis=1)
@@ -363,16 +381,22 @@ def perturbation_search(box: Box | None = None, *, stone="paper", config: SimCon
         flat = np.argmax(counts)
         if counts.flat[flat] > best_n:
             best_n, best = int(counts.flat[flat]), _full(box, {k: v[flat] for k, v in values.items()})
+        visited.append({"bounces": counts.ravel().tolist(), "points": {k: v.tolist() for k, v in values.items()}})
         diff = (counts[:, :samples] - counts[:, samples:2 * samples]).astype(float)
         g = np.einsum("sk,skp->sp", diff, eps) / (2.0 * sigma * samples)
         u, state = step_opt(jnp.asarray(g), state, jnp.asarray(u))
         u = np.asarray(u)
+        centres = {k: np.asarray(v).reshape(starts, -1)[:, -1].tolist() for k, v in values.items()}
         history.append({"iteration": it, "bounces": counts[:, -1].tolist(), "objective": counts.mean(1).tolist(),
-                        "best": best_n, "nonfinite": 0})
+                        "best": best_n, "nonfinite": 0, "points": centres})
         if progress:
             print(f"\r  iteration {it + 1}/{iterations}: best {best_n} bounces", end="", file=sys.stderr, flush=True)
     if progress:
         print(file=sys.stderr)
+    if polish:
+        best_n, best, forward = _polish(box, visited, min(4, starts), polish, polish_scale, rigid, config, seed,
+                                        progress, best_n, best, forward, iterations)
+        history.append(visited[-1])
     return SearchResult("perturbation", best, best_n, history, box, time.perf_counter() - t0, forward, 0)
 
 

@@ -69,3 +69,15 @@ def test_optimize_gradient_reports_gradient_norms(tmp_path, capsys):
     assert h["of"] == 2 and h["starts"]["n"] == 2 and h["max"] >= h["median"] >= 0.0
     assert r["forward_throws"] == 2 * 2 + 8 and r["history"][-1]["phase"] == "polish"
     assert r["history"][0]["grad_norm"] and len(r["history"][0]["grad_norm"]) == 2
+
+
+def test_optimize_perturbation_with_samples_and_polish(capsys):
+    argv = ["optimize", "--method", "perturbation", "--starts", "2", "--iterations", "1", "--samples", "1",
+            "--polish", "4", "--attitude", "fixed", "--speed-range", "5", "7", "--tilt", "20", "--attack", "10",
+            "--spin", "10"]
+    assert main(argv + ["--json"]) == 0
+    r = json.loads(capsys.readouterr().out)
+    assert r["method"] == "perturbation" and r["forward_throws"] == 2 * (2 * 1 + 1) + 4
+    assert r["history"][-1]["phase"] == "polish" and "gradient_norms" not in r
+    assert main(argv) == 0
+    assert "the polish (4 exact throws near its best throws)" in capsys.readouterr().out

@@ -10,7 +10,7 @@ import pytest
 
 from jaxskip import ParameterError, SimConfig, Throw, rollout, simulate_batch
 from optimize import (EXPLODING, VANISHING, gradient_health, gradient_search, local_search, make_box,
-                      make_objective, top_throws)
+                      make_objective, perturbation_search, top_throws)
 from optimize.search import SearchResult
 from optimize.objectives import soft_bounce_count, soft_bounce_rollout
 
@@ -170,6 +170,24 @@ def test_gradient_health_counts_exploding_and_vanishing_gradients():
     assert h["starts"] == {"n": 3, "exploding": 2, "vanishing": 1}
     assert h["median"] == 2.0 and h["max"] == 10 * EXPLODING
     assert gradient_health(dataclasses.replace(r, history=[{"bounces": [1]}])) is None
+
+
+def test_perturbation_search_polishes_near_the_best_evaluated_throws():
+    """perturbation_search(polish=N): N exact throws near the best throws it evaluated (centres and
+    antithetic samples alike); its history lists the centres it simulated."""
+    box = make_box({"speed": (2.0, 10.0), "attack": (0.0, 30.0)}, held={"tilt": 20.0, "spin": 15.0})
+    config = SimConfig(max_steps=3000, attitude="fixed")
+    r = perturbation_search(box, config=config, starts=2, iterations=2, samples=2, polish=6, seed=1)
+    assert r.forward_throws == 2 * 2 * (2 * 2 + 1) + 6 and r.gradient_evals == 0
+    assert [h.get("phase") for h in r.history] == [None, None, "polish"] and len(r.history[-1]["bounces"]) == 6
+    assert all(len(h["points"]["speed"]) == 2 for h in r.history[:2])
+    assert r.history[-1]["best"] == r.best_bounces >= max(b for h in r.history for b in h["bounces"])
+    pts = np.asarray(r.history[-1]["points"]["speed"])
+    assert np.all((pts >= 2.0) & (pts <= 10.0))
+    # The reported best is the exact simulation's count of the reported throw.
+    again = simulate_batch(box.throws_from_user({k: np.array([r.best[k]]) for k in ("speed", "attack")}),
+                           config=dataclasses.replace(config, record=False))
+    assert int(again.bounces[0]) == r.best_bounces
 
 
 def test_top_throws_are_distinct_and_best_first():
