@@ -9,8 +9,9 @@
 #
 # (1) the stone's contact time step: beyond which the integrator creates energy in a contact;
 # (2) the water's time step: growth of ripples around the derived bound √3/2 · l/√(gH);
-# (3) gradients against the horizon: the norm of d(distance)/d(speed) as the rollout grows over
-# many bounces; (4) the smooth bounce count's width against the spread of its gradient;
+# (3) gradients against the horizon: the norm of d(distance)/d(throw) of the default throw as the
+# rollout grows over many bounces, and the spread of the smooth bounce count's gradient over random
+# throws of the human box — its tail grows exponentially, the rollout being chaotic; (4) the smooth bounce count's width against the spread of its gradient;
 # (5) float32: where single precision fails — the smooth clipping's cancellation and the gradient
 # over long rollouts.
 # The library's guards are marked: `SimConfig` caps `dt` at 0.01 s, `WaterGrid` refuses a water
@@ -101,6 +102,24 @@ for n in horizons:
 norms = [float(np.linalg.norm(grads64[n])) for n in horizons]
 print("|d x_end / d throw| vs steps: " + ", ".join(f"{n}: {v:.3g}" for n, v in zip(horizons, norms)))
 
+# The smooth bounce count's gradient over random throws of the human box, in the search's
+# coordinates (optimize.gradient_search): its percentiles against the horizon.
+from optimize import EXPLODING, make_box  # noqa: E402
+
+box = make_box()
+rng = np.random.default_rng(11)
+n_random = 16 if QUICK else 128
+u_random = jnp.asarray(box.from_user({k: rng.uniform(lo, hi, n_random) for k, lo, hi in box.searched}))
+chaos_horizons = [400, 1200] if QUICK else [100, 200, 400, 800, 1600, 3200, 12000]
+chaos = []
+for n in chaos_horizons:
+    f = make_objective("bounces", SimConfig(max_steps=n), stone, water)
+    g = np.asarray(jax.jit(lambda u, f=f: jax.lax.map(jax.grad(lambda ui: f(box.to_throw(ui))), u))(u_random))
+    chaos.append(np.percentile(np.linalg.norm(g, axis=1), [50, 90, 99]))
+chaos = np.array(chaos)
+print(f"smooth count, |gradient| per unit u over {n_random} random throws, p50/p90/p99 vs steps: "
+      + "; ".join(f"{n}: " + "/".join(f"{v:.3g}" for v in row) for n, row in zip(chaos_horizons, chaos)))
+
 # %% [markdown]
 # ## 4. The smooth bounce count: width against gradient spread
 # d(smooth count)/d(speed) at 16 speeds a few mm/s apart: a narrow width follows the true count's
@@ -169,8 +188,13 @@ ax[1].semilogy(factors, growth, "o-")
 ax[1].axvline(1.0, color="C3", ls="--", label="bound (refused beyond)")
 ax[1].set(xlabel="dt / bound", ylabel="ripple growth", title="(2) water time step")
 ax[1].legend(fontsize=7)
-ax[2].loglog(horizons, norms, "o-")
-ax[2].set(xlabel="rollout steps", ylabel="|gradient| [m per unit]", title="(3) gradient vs horizon")
+ax[2].loglog(horizons, norms, "o-", color="k", label="default throw: |d distance / d throw| [m per unit]")
+for j, (q, style) in enumerate(((50, ":"), (90, "--"), (99, "-"))):
+    ax[2].loglog(chaos_horizons, np.maximum(chaos[:, j], 1e-17), "o" + style, color="C3",
+                 label=f"smooth count, {q}th percentile over {n_random} random throws [per unit u]")
+ax[2].axhline(EXPLODING, color="C3", lw=0.6, alpha=0.5)
+ax[2].set(xlabel="rollout steps", ylabel="|gradient|", title="(3) gradient vs horizon: the tail explodes")
+ax[2].legend(fontsize=6)
 ax[3].semilogx(widths, spread, "o-")
 ax[3].axvline(2e-4, color="C3", ls="--", label="default width")
 ax[3].set(xlabel="width [m]", ylabel="std of d(count)/d(speed)", title="(4) surrogate width")
