@@ -17,7 +17,11 @@ r"""Search for the throw with the most bounces: optax gradient ascent, and basel
   long throws and sampling finds the long throws in it.
 * :func:`perturbation_search` — the randomised-smoothing baseline: the
   gradient of :math:`E[N(\theta + \sigma\epsilon)]` estimated from antithetic
-  pairs of exact simulations (no derivative of the simulator).
+  pairs of exact simulations (no derivative of the simulator), with the same
+  optional polish. On the free stone it finds far more bounces than the
+  gradient search: the rollout is chaotic, and its pathwise gradients grow
+  e-fold every ~40-50 ms of contact (:func:`gradient_health` monitors them;
+  benchmarks/README.md, session 14).
 * :func:`grid_search`, :func:`random_search` — exhaustive and random
   baselines on exact counts, run in lane-pooled batches with a progress line.
 
