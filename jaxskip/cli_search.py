@@ -36,10 +36,9 @@ def add_parsers(sub, number) -> None:
     o.add_argument("--learning-rate", type=number("--learning-rate"), default=0.3, metavar="LR",
                    help="Adam step in the unconstrained coordinates (default 0.3)")
     o.add_argument("--polish", type=int, default=256, metavar="N",
-                   help="(gradient, perturbation) exact throws sampled near the best throws found, after the ascent "
-                        "(default 256; "
-                        "0: none). The free stone's count is chaotic: sampling near the ascent's best finds more "
-                        "than the ascent (21 -> 51 bounces in the default search)")
+                   help="(gradient, perturbation) exact throws sampled near the best throws found, after the "
+                        "ascent (default 256; 0: none). The free stone's count is chaotic: sampling near the "
+                        "ascent's best finds more than the ascent (21 -> 51 bounces in the default search)")
     o.add_argument("--samples", type=int, default=8, metavar="N",
                    help="(perturbation) antithetic pairs of exact throws per start and iteration (default 8)")
     o.add_argument("--horizon", type=int, default=None, metavar="STEPS",

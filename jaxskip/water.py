@@ -439,19 +439,18 @@ def _sponge_keep(grid: WaterGrid, dt):
     """The sponge's factors for a step of ``dt``: ``(column (nx, ny), (x, y, diagonal, anti-diagonal) pipes)``.
 
     A column keeps ``1 / (1 + dt * rate)`` (implicit relaxation towards rest: 0 inside, rising
-    quadratically to ``sponge_rate`` at the edge), a pipe the smaller factor of its two columns. The rate is ``sponge_rate * max(rx_i, ry_j)^2``
-    with one ramp per axis, and both maps are monotone, so every factor is the smaller of one per
-    row and one per column: ``nx + ny`` divisions a step instead of one per column (or two per pipe)
-    — the same numbers, bit for bit.
+    quadratically to ``sponge_rate`` at the edge), a pipe the smaller factor of its two columns.
+    The rate is ``sponge_rate * max(rx_i, ry_j)^2`` with one ramp per axis, and both maps are
+    monotone, so every factor is the smaller of one per row and one per column: ``nx + ny``
+    divisions a step instead of one per column (or two per pipe) — the same numbers, bit for bit.
     """
     nx, ny = grid.shape
     kx = 1.0 / (1.0 + dt * (grid.sponge_rate * _sponge_ramp(grid, nx) ** 2))
     ky = 1.0 / (1.0 + dt * (grid.sponge_rate * _sponge_ramp(grid, ny) ** 2))
     col = jnp.minimum(kx[:, None], ky[None, :])
     px, py = jnp.minimum(kx[:-1], kx[1:]), jnp.minimum(ky[:-1], ky[1:])
-    pipes = (jnp.minimum(px[:, None], ky[None, :]), jnp.minimum(kx[:, None], py[None, :]),
-             jnp.minimum(px[:, None], py[None, :]), jnp.minimum(px[:, None], py[None, :]))
-    return col, pipes
+    diagonal = jnp.minimum(px[:, None], py[None, :])    # both diagonals join the same 2 x 2 columns
+    return col, (jnp.minimum(px[:, None], ky[None, :]), jnp.minimum(kx[:, None], py[None, :]), diagonal, diagonal)
 
 
 def make_water_step(grid: WaterGrid, clamp_blocks: tuple = ()):
