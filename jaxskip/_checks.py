@@ -15,15 +15,17 @@ class ParameterError(ValueError):
     """A parameter is outside its valid range (the message names it)."""
 
 
-def _as_float(name: str, value) -> float:
+def _as_float(name: str, value, valid: str = "") -> float:
+    """``value`` as a finite float; ``valid`` (e.g. "in [0, 1] s") completes the messages."""
     if isinstance(value, bool) or not isinstance(value, numbers.Real):
         try:
             value = float(value)  # numpy scalars, 0-d arrays
         except (TypeError, ValueError):
-            raise ParameterError(f"{name} must be a real number, got {value!r}") from None
+            raise ParameterError(f"{name} must be a real number{(' ' + valid) if valid else ''}, "
+                                 f"got {value!r}") from None
     value = float(value)
     if not math.isfinite(value):
-        raise ParameterError(f"{name} must be finite, got {value!r}")
+        raise ParameterError(f"{name} must be finite{(' and ' + valid) if valid else ''}, got {value!r}")
     return value
 
 
@@ -34,9 +36,10 @@ def check_real(name: str, value, *, unit: str = "") -> float:
 
 def check_positive(name: str, value, *, unit: str = "") -> float:
     """Return ``value`` as a finite float > 0 or raise :class:`ParameterError`."""
-    v = _as_float(name, value)
+    valid = f"> 0{(' ' + unit) if unit else ''}"
+    v = _as_float(name, value, valid)
     if v <= 0.0:
-        raise ParameterError(f"{name} must be > 0{(' ' + unit) if unit else ''}, got {v!r}")
+        raise ParameterError(f"{name} must be {valid}, got {v!r}")
     return v
 
 
@@ -51,25 +54,23 @@ def check_range(
     high_open: bool = False,
 ) -> float:
     """Return ``value`` as a finite float inside ``[low, high]`` (ends optionally open)."""
-    v = _as_float(name, value)
+    valid = f"in {'(' if low_open else '['}{low:g}, {high:g}{')' if high_open else ']'}{(' ' + unit) if unit else ''}"
+    v = _as_float(name, value, valid)
     too_low = v <= low if low_open else v < low
     too_high = v >= high if high_open else v > high
     if too_low or too_high:
-        lo = "(" if low_open else "["
-        hi = ")" if high_open else "]"
-        u = f" {unit}" if unit else ""
-        raise ParameterError(f"{name} must be in {lo}{low:g}, {high:g}{hi}{u}, got {v!r}")
+        raise ParameterError(f"{name} must be {valid}, got {v!r}")
     return v
 
 
 def check_int(name: str, value, *, minimum: int = 1, maximum: int | None = None) -> int:
     """Return ``value`` as an int in ``[minimum, maximum]`` or raise :class:`ParameterError`."""
+    valid = f">= {minimum}" if maximum is None else f"in [{minimum}, {maximum}]"
     if isinstance(value, bool) or not isinstance(value, numbers.Integral):
-        raise ParameterError(f"{name} must be an integer, got {value!r}")
+        raise ParameterError(f"{name} must be an integer {valid}, got {value!r}")
     v = int(value)
     if v < minimum or (maximum is not None and v > maximum):
-        top = "" if maximum is None else f", {maximum}"
-        raise ParameterError(f"{name} must be an integer in [{minimum}{top}], got {v}")
+        raise ParameterError(f"{name} must be an integer {valid}, got {v}")
     return v
 
 

@@ -40,7 +40,8 @@ class Contact:
     t_end: float
     """Time the last triangle left the water [s] (the end of the run if it never left)."""
     x: float
-    """Downrange position of the centre of mass at the contact's start [m]."""
+    """Downrange position of the centre of mass at the contact's start [m]: its distance from the
+    release point along the throw's heading."""
     tilt_start: float
     """Tilt (face normal to vertical) at the start [rad]."""
     tilt_end: float
@@ -282,8 +283,12 @@ def simulate(
     if water_field is not None and not isinstance(water_field, WaterGrid):
         raise ParameterError(f"water_field must be a jaxskip.water.WaterGrid or None, got {water_field!r}")
     compiled_before = _chunk_runner.cache_info().currsize
-    # (called with the same arguments as the tests and other callers, so lru_cache finds the same entry)
-    run = _chunk_runner(config, chunk) if water_field is None else _chunk_runner(config, chunk, water_field)
+
+    def runner(n):
+        # (called with the same arguments as the tests and other callers, so lru_cache finds the same entry)
+        return _chunk_runner(config, n) if water_field is None else _chunk_runner(config, n, water_field)
+
+    run = runner(min(chunk, config.max_steps))
     if progress and _chunk_runner.cache_info().currsize > compiled_before:
         print("  compiling the simulator for this configuration (once, ~2 s)...", file=sys.stderr, flush=True)
 
@@ -297,7 +302,8 @@ def simulate(
     records = []
     done = 0
     while done < config.max_steps:
-        carry, rec = run(carry, throw, np.bool_(start), rigid, water)
+        n = min(chunk, config.max_steps - done)  # the last chunk stops at max_steps (compiled only if reached)
+        carry, rec = (run if n == chunk or done == 0 else runner(n))(carry, throw, np.bool_(start), rigid, water)
         start = False
         records.append(jax.device_get(rec))
         if water_field is not None:
@@ -305,7 +311,7 @@ def simulate(
             frames.append((float(carry[0].time), np.asarray(f.offset) * water_field.spacing,
                            np.asarray(f.water.height), np.asarray(carry[0].position),
                            np.asarray(carry[0].orientation)))
-        done += chunk
+        done += n
         # Read on the host: indexing the device array would compile three tiny kernels (~0.1 s) on a
         # first call.
         alive = bool(np.asarray(carry[1].counters)[_ALIVE])
@@ -329,11 +335,13 @@ def simulate(
     outcome = OUTCOMES[STEP_LIMIT] if tr.alive else OUTCOMES[int(tr.outcome)]
     end_time = float(state.time)
     k = min(int(tr.contacts), config.max_contacts)
+    heading = float(throw.heading)
+    along = np.array([math.cos(heading), math.sin(heading)])  # release is at x = y = 0
     contacts = [
         Contact(
             t_start=float(tr.t_start[i]),
             t_end=float(tr.t_end[i]) if np.isfinite(tr.t_end[i]) else end_time,
-            x=float(tr.x_start[i, 0]),
+            x=float(np.asarray(tr.x_start[i, :2]) @ along),
             tilt_start=float(tr.tilt_start[i]),
             tilt_end=float(tr.tilt_end[i]) if np.isfinite(tr.tilt_end[i]) else float("nan"),
         )

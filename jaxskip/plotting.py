@@ -34,7 +34,7 @@ def plot_throw(result, path=None, *, ax=None):
     else:
         side, top = ax
         fig = side.figure
-    x, y, z = pos[:, 0], pos[:, 1], pos[:, 2]
+    x, y, z = _throw_frame(pos, float(result.throw.heading))
 
     side.axhline(0.0, color="#2f6fb0", lw=1.2, label="water surface")
     side.fill_between([min(x.min(), 0) - 0.2, x.max() + 0.5], -0.05, 0.0, color="#cfe3f5", zorder=0)
@@ -67,6 +67,13 @@ def plot_throw(result, path=None, *, ax=None):
         fig.savefig(path, dpi=130)
         plt.close(fig)
     return fig
+
+
+def _throw_frame(pos, heading):
+    """World positions (N, 3) [m] -> (downrange, sideways, height) [m] in the throw's frame: downrange
+    along ``heading`` [rad] from the release point (the origin), sideways to its left."""
+    c, s = math.cos(heading), math.sin(heading)
+    return pos[:, 0] * c + pos[:, 1] * s, pos[:, 1] * c - pos[:, 0] * s, pos[:, 2]
 
 
 def _stone_world(stone, position, orientation):
@@ -176,6 +183,8 @@ def animate_throw(result, stone, path, *, fps: int = 20):
     lim = max(max(float(np.abs(f[2] - depth).max()) for f in frames) * 1e3, 1e-6)
     pos = np.asarray(result.trajectory["position"])
     times = np.asarray(result.trajectory["time"])
+    heading = float(result.throw.heading)
+    down = _throw_frame(pos, heading)[0]
     fig, (top, side) = plt.subplots(1, 2, figsize=(10, 4.2), width_ratios=[1, 1.4])
 
     def draw(i):
@@ -191,9 +200,9 @@ def animate_throw(result, stone, path, *, fps: int = 20):
         top.set_ylabel("y [m]")
         seen = times <= t
         side.axhline(0.0, color="#2f6fb0", lw=1.0)
-        side.plot(pos[seen, 0], pos[seen, 2] * 100, color="0.2", lw=1.0)
-        side.plot([position[0]], [position[2] * 100], "o", color="#d1495b")
-        side.set_xlim(min(pos[:, 0].min(), 0) - 0.1, pos[:, 0].max() + 0.2)
+        side.plot(down[seen], pos[seen, 2] * 100, color="0.2", lw=1.0)
+        side.plot(_throw_frame(np.asarray(position)[None], heading)[0], [position[2] * 100], "o", color="#d1495b")
+        side.set_xlim(min(down.min(), 0) - 0.1, down.max() + 0.2)
         side.set_ylim(min(-2.0, pos[:, 2].min() * 100 - 0.5), max(pos[:, 2].max() * 115, 2.0))
         side.set_xlabel("downrange x [m]")
         side.set_ylabel("height [cm]")

@@ -40,14 +40,16 @@ def check_interval(name: str, value, low: float, high: float, *, unit: str = "")
     except (TypeError, ValueError):
         raise ParameterError(f"{name} must be a pair (low, high) of numbers, got {value!r}") from None
     u = f" {unit}" if unit else ""
+    valid = f"within [{low:g}, {high:g}]{u}"
     if not (math.isfinite(lo) and math.isfinite(hi)):
-        raise ParameterError(f"{name} must be finite, got ({lo}, {hi}){u}")
+        raise ParameterError(f"{name} must be finite and lie {valid}, got ({lo}, {hi})")
     if lo > hi:
-        raise ParameterError(f"{name} is inverted: low {lo} > high {hi}{u}")
+        raise ParameterError(f"{name} is inverted: low {lo} > high {hi}{u} (give low < high, {valid})")
     if lo == hi:
-        raise ParameterError(f"{name} is empty: low = high = {lo}{u} (give a single value to hold it instead)")
+        raise ParameterError(f"{name} is empty: low = high = {lo}{u} (give low < high, {valid}, or a single value "
+                             "to hold it instead)")
     if lo < low or hi > high:
-        raise ParameterError(f"{name} must lie within [{low}, {high}]{u}, got ({lo}, {hi})")
+        raise ParameterError(f"{name} must lie {valid}, got ({lo}, {hi})")
     return lo, hi
 
 

@@ -78,6 +78,20 @@ def test_first_simulate_in_a_fresh_process_compiles_one_program():
     assert len(compiles) == 1, compiles
 
 
+def test_simulate_stops_at_max_steps_that_is_not_a_multiple_of_the_chunk(paper, water):
+    """simulate() runs exactly ``max_steps`` steps (its last chunk is shortened), like rollout():
+    the default throw needs 1147 steps, so 1100 end it by the step limit, at the same state."""
+    config = SimConfig(max_steps=1100)
+    r = simulate(Throw.from_degrees(), paper, water=water, config=config)
+    state, tr, _ = jax.jit(lambda t: rollout(config, t, paper, water))(Throw.from_degrees())
+    assert r.outcome == "step_limit" == OUTCOMES[int(tr.outcome)]
+    assert r.steps == 1100 == len(r.trajectory["time"])
+    assert r.bounces == int(tr.bounces)
+    assert r.final_time == float(state.time)
+    short = simulate(Throw.from_degrees(), paper, water=water, config=SimConfig(max_steps=100))
+    assert short.outcome == "step_limit" and short.steps == 100
+
+
 def test_simulate_accepts_a_batch_config():
     """A config made for batches (record=False) still gives simulate() its trajectory."""
     a = simulate(Throw.from_degrees(speed=6.0), config=SimConfig(record=False, max_steps=2000))

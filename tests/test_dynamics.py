@@ -192,3 +192,17 @@ def test_tracker_finish_marks_throws_still_in_play(paper, water):
     done = batch.finish()
     np.testing.assert_array_equal(done.outcome, [STEP_LIMIT, 1])
     np.testing.assert_array_equal(batch.outcome, [0, 1])  # the input is not modified
+
+
+@pytest.mark.parametrize("heading", [30.0, -135.0])
+def test_heading_turns_the_whole_throw(paper, water, heading):
+    """The water is isotropic: a throw turned by ``heading`` makes the same bounces, and its contacts'
+    downrange positions (along the heading, from the release point) and its distance are the same."""
+    from jaxskip import simulate
+
+    a = simulate(Throw.from_degrees(), paper, water=water)
+    b = simulate(Throw.from_degrees(heading=heading), paper, water=water)
+    assert a.bounces == b.bounces >= 5
+    np.testing.assert_allclose([c.x for c in b.contacts], [c.x for c in a.contacts], rtol=0, atol=1e-9)
+    assert max(c.x for c in b.contacts) > 1.0  # the contacts move downrange, not only in world x
+    np.testing.assert_allclose(b.distance, a.distance, rtol=1e-9)
