@@ -74,9 +74,15 @@ class SearchResult:
     costs more on the long throws a search climbs to than on a typical throw)."""
     compile_time: float = 0.0
     """Time spent compiling the gradient function [s] (in ``wall_time``, not in ``gradient_time``)."""
+    best_distance: float | None = None
+    """The best throw's true distance [m] (exact simulation, as ``best_bounces``)."""
+    objective: str = "bounces"
+    """What "best" means: ``"bounces"`` (the most true bounces) or ``"distance"`` (the longest true
+    distance; :func:`gradient_search` and :func:`local_search` with ``objective="distance"``)."""
 
     def to_dict(self) -> dict:
-        return {"method": self.method, "best": self.best, "best_bounces": self.best_bounces,
+        return {"method": self.method, "objective": self.objective, "best": self.best,
+                "best_bounces": self.best_bounces, "best_distance": self.best_distance,
                 "history": self.history, "box": self.box.to_dict(), "wall_time": self.wall_time,
                 "forward_throws": self.forward_throws, "gradient_evals": self.gradient_evals,
                 "gradient_time": self.gradient_time, "compile_time": self.compile_time}
@@ -126,12 +132,42 @@ def _full(box: Box, values: dict) -> dict:
     return out
 
 
+def _exact(box: Box, values: dict, stone, config: SimConfig, lanes: int | None = None,
+           progress: bool = False) -> tuple[np.ndarray, np.ndarray]:
+    """Exact bounce counts and distances [m] of the throws ``values`` (user units), lane-pooled
+    (:func:`simulate_batch`)."""
+    throws = box.throws_from_user(values)
+    r = simulate_batch(throws, stone, config=dataclasses.replace(config, record=False), lanes=lanes,
+                       progress=progress)
+    return r.bounces, r.distance
+
+
 def _true_counts(box: Box, values: dict, stone, config: SimConfig, lanes: int | None = None,
                  progress: bool = False) -> np.ndarray:
-    """Exact bounce counts of the throws ``values`` (user units), lane-pooled (:func:`simulate_batch`)."""
-    throws = box.throws_from_user(values)
-    return simulate_batch(throws, stone, config=dataclasses.replace(config, record=False), lanes=lanes,
-                          progress=progress).bounces
+    """Exact bounce counts of the throws ``values`` (user units)."""
+    return _exact(box, values, stone, config, lanes, progress)[0]
+
+
+def _check_objective(objective: str) -> str:
+    if objective not in ("bounces", "distance"):
+        raise ParameterError(f"objective must be 'bounces' or 'distance', got {objective!r}")
+    return objective
+
+
+class _Best:
+    """The best throw seen so far by ``objective`` (true counts or true distances)."""
+
+    def __init__(self, box: Box, objective: str):
+        self.box, self.objective = box, objective
+        self.score, self.throw, self.bounces, self.distance = -np.inf, None, -1, None
+
+    def update(self, values: dict, counts, distances) -> None:
+        score = np.asarray(counts if self.objective == "bounces" else distances, dtype=float).ravel()
+        i = int(np.argmax(score))
+        if score[i] > self.score:
+            self.score = float(score[i])
+            self.throw = _full(self.box, {k: np.ravel(v)[i] for k, v in values.items()})
+            self.bounces, self.distance = int(np.ravel(counts)[i]), float(np.ravel(distances)[i])
 
 
 def _random_points(box: Box, n: int, rng) -> dict:
@@ -156,6 +192,8 @@ def gradient_search(box: Box | None = None, *, objective: str = "bounces", stone
     best distinct throws the ascent visited, each parameter perturbed by ``polish_scale`` times
     its searched range (0: no polish). The history then ends with an entry of ``"phase":
     "polish"``; every entry lists the throws it simulated under ``"points"`` (user units).
+    With ``objective="distance"`` the best throw is the one with the longest true distance (the
+    history then also lists each start's true distance [m] under ``"distance"``).
     Every iteration's history entry records each start's raw gradient norm (``"grad_norm"``,
     unconstrained coordinates, before clipping; ``None`` where non-finite): see
     :func:`gradient_health` and :data:`EXPLODING`.
@@ -168,6 +206,7 @@ def gradient_search(box: Box | None = None, *, objective: str = "bounces", stone
     t0 = time.perf_counter()
     box = make_box() if box is None else box
     config = SimConfig() if config is None else config
+    objective = _check_objective(objective)
     starts = check_int("starts", starts, minimum=1, maximum=4096)
     iterations = check_int("iterations", iterations, minimum=1, maximum=100_000)
     polish = check_int("polish", polish, minimum=0, maximum=100_000_000)
@@ -211,17 +250,16 @@ def gradient_search(box: Box | None = None, *, objective: str = "bounces", stone
     t_compile = time.perf_counter() - t_compile
     t_grad = 0.0
     state = jax.jit(jax.vmap(opt.init))(u)
-    history, best, best_n, forward = [], None, -1, 0
+    history, best, forward = [], _Best(box, objective), 0
     for it in range(iterations + 1):
         values = box.to_user(np.asarray(u))
-        counts = _true_counts(box, values, rigid, config)
+        counts, dists = _exact(box, values, rigid, config)
         forward += starts
-        i = int(np.argmax(counts))
-        if counts[i] > best_n:
-            best_n, best = int(counts[i]), _full(box, {k: v[i] for k, v in values.items()})
+        best.update(values, counts, dists)
         points = {k: np.asarray(v, dtype=float).tolist() for k, v in values.items()}
+        exact = {"bounces": counts.tolist(), **({"distance": dists.tolist()} if objective == "distance" else {})}
         if it == iterations:
-            history.append({"iteration": it, "bounces": counts.tolist(), "objective": None, "best": best_n,
+            history.append({"iteration": it, **exact, "objective": None, "best": best.bounces,
                             "nonfinite": 0, "points": points})
             break
         t1 = time.perf_counter()
@@ -232,48 +270,55 @@ def gradient_search(box: Box | None = None, *, objective: str = "bounces", stone
         norms = [float(v) if ok else None for v, ok in zip(np.linalg.norm(np.where(finite[:, None], g, 0.0), axis=-1),
                                                            finite)]
         u, state = step_opt(float_array(np.where(finite[:, None], g, 0.0)), state, u)
-        history.append({"iteration": it, "bounces": counts.tolist(), "objective": np.asarray(obj).tolist(),
-                        "best": best_n, "nonfinite": int(np.sum(~np.asarray(finite))), "points": points,
+        history.append({"iteration": it, **exact, "objective": np.asarray(obj).tolist(),
+                        "best": best.bounces, "nonfinite": int(np.sum(~np.asarray(finite))), "points": points,
                         "grad_norm": norms})
         if progress:
             big = sum(1 for v in norms if v is None or v > EXPLODING)
-            print(f"\r  iteration {it + 1}/{iterations}: best {best_n} bounces, surrogate mean "
+            print(f"\r  iteration {it + 1}/{iterations}: best {best.bounces} bounces, surrogate mean "
                   f"{float(np.mean(obj)):.2f}, {big}/{starts} gradients exploding", end="", file=sys.stderr, flush=True)
     if progress:
         print(file=sys.stderr)
     if polish:
-        best_n, best, forward = _polish(box, history, min(4, starts), polish, polish_scale, rigid, config, seed,
-                                        progress, best_n, best, forward, iterations + 1)
-    return SearchResult("gradient", best, best_n, history, box, time.perf_counter() - t0, forward,
-                        starts * iterations, t_grad, t_compile)
+        forward += _polish(box, history, min(4, starts), polish, polish_scale, rigid, config, seed, progress, best,
+                           iterations + 1)
+    return SearchResult("gradient", best.throw, best.bounces, history, box, time.perf_counter() - t0, forward,
+                        starts * iterations, t_grad, t_compile, best.distance, objective)
 
 
-def _polish(box, visited, k, throws, scale, rigid, config, seed, progress, best_n, best, forward, iteration):
+def _polish(box, visited, k, throws, scale, rigid, config, seed, progress, best: _Best, iteration) -> int:
     """:func:`local_search` of ``throws`` exact throws around the ``k`` best distinct throws in
-    ``visited`` (entries with ``"points"`` and ``"bounces"``); appends the polish's history entry
-    (``"phase": "polish"``) to ``visited`` and returns the updated ``(best_n, best, forward)``."""
-    local = local_search(box, top_throws(visited, k), throws=throws, scale=scale, stone=rigid, config=config,
-                         seed=seed, progress=progress)
-    forward += local.forward_throws
-    if local.best_bounces > best_n:
-        best_n, best = local.best_bounces, local.best
-    visited.append(dict(local.history[0], iteration=iteration, best=best_n))
-    return best_n, best, forward
+    ``visited`` (entries with ``"points"`` and ``"bounces"``, or ``"distance"`` when ``best`` ranks by
+    distance); updates ``best``, appends the polish's history entry (``"phase": "polish"``) to
+    ``visited`` and returns the throws it simulated."""
+    local = local_search(box, top_throws(visited, k, best.objective), throws=throws, scale=scale, stone=rigid,
+                         config=config, seed=seed, objective=best.objective, progress=progress)
+    entry = local.history[0]
+    best.update(entry["points"], entry["bounces"], entry["distance"])
+    if best.objective == "bounces":
+        entry = {k: v for k, v in entry.items() if k != "distance"}
+    visited.append(dict(entry, iteration=iteration, best=best.bounces))
+    return local.forward_throws
 
 
-def top_throws(history: list, k: int) -> dict:
-    """The ``k`` distinct throws with the highest true counts in a search's ``history``.
+def top_throws(history: list, k: int, objective: str = "bounces") -> dict:
+    """The ``k`` distinct throws with the highest true counts (``objective="distance"``: the longest
+    true distances) in a search's ``history``.
 
     Returns {parameter: (m,) array} in user units, best first (``m <= k``). Needs the
-    ``"points"`` of each history entry (:func:`gradient_search` records them).
+    ``"points"`` of each history entry (:func:`gradient_search` records them), and their
+    ``"distance"`` for the distance objective.
     """
     k = check_int("k", k, minimum=1)
+    key = _check_objective(objective)
     names = list(history[0]["points"]) if history and "points" in history[0] else []
     if not names:
         raise ParameterError("history has no points: top_throws needs a gradient_search history")
+    if any(key not in h for h in history if "points" in h):
+        raise ParameterError(f"history has no {key!r} for every entry: search with objective={key!r}")
     pts = np.stack([np.concatenate([np.asarray(h["points"][n], float) for h in history if "points" in h])
                     for n in names], axis=-1)
-    counts = np.concatenate([np.asarray(h["bounces"]) for h in history if "points" in h])
+    counts = np.concatenate([np.asarray(h[key], float) for h in history if "points" in h])
     chosen = []
     for i in np.argsort(-counts, kind="stable"):
         if not any(np.allclose(pts[i], pts[j]) for j in chosen):
@@ -285,8 +330,9 @@ def top_throws(history: list, k: int) -> dict:
 
 def local_search(box: Box, centres: dict, *, throws: int = 256, scale: float = 0.03, stone="paper",
                  config: SimConfig | None = None, lanes: int | None = None, seed: int = 0,
-                 progress: bool = False) -> SearchResult:
-    """Exact counts of ``throws`` random throws near ``centres`` (the best one wins).
+                 objective: str = "bounces", progress: bool = False) -> SearchResult:
+    """Exact counts of ``throws`` random throws near ``centres`` (the best one wins: the most bounces,
+    or with ``objective="distance"`` the longest distance).
 
     ``centres``: {parameter: (m,) array} in user units, one entry per searched parameter of
     ``box`` (e.g. :func:`top_throws` of a gradient search). Throw ``i`` perturbs centre
@@ -301,6 +347,7 @@ def local_search(box: Box, centres: dict, *, throws: int = 256, scale: float = 0
     """
     t0 = time.perf_counter()
     config = SimConfig() if config is None else config
+    objective = _check_objective(objective)
     n = check_int("throws", throws, minimum=1, maximum=100_000_000)
     check_range("scale", scale, 0.0, 1.0, low_open=True)
     m = None
@@ -320,12 +367,14 @@ def local_search(box: Box, centres: dict, *, throws: int = 256, scale: float = 0
         c = np.atleast_1d(np.asarray(centres[name], dtype=float))[pick]
         values[name] = np.clip(c + scale * (hi - lo) * rng.standard_normal(n), lo, hi)
     rigid, _ = resolve_stone(stone)
-    counts = _true_counts(box, values, rigid, config, lanes, progress)
-    i = int(np.argmax(counts))
-    best = _full(box, {k: v[i] for k, v in values.items()})
-    hist = [{"iteration": 0, "phase": "polish", "bounces": counts.tolist(), "objective": None,
-             "best": int(counts[i]), "nonfinite": 0, "points": {k: v.tolist() for k, v in values.items()}}]
-    return SearchResult("local", best, int(counts[i]), hist, box, time.perf_counter() - t0, n, 0)
+    counts, dists = _exact(box, values, rigid, config, lanes, progress)
+    best = _Best(box, objective)
+    best.update(values, counts, dists)
+    hist = [{"iteration": 0, "phase": "polish", "bounces": counts.tolist(), "distance": dists.tolist(),
+             "objective": None, "best": best.bounces, "nonfinite": 0,
+             "points": {k: v.tolist() for k, v in values.items()}}]
+    return SearchResult("local", best.throw, best.bounces, hist, box, time.perf_counter() - t0, n, 0,
+                        best_distance=best.distance, objective=objective)
 
 
 def _starts_sharding(starts: int):
@@ -376,16 +425,16 @@ def perturbation_search(box: Box | None = None, *, stone="paper", config: SimCon
     state = jax.vmap(opt.init)(jnp.asarray(u))
     step_opt = jax.jit(jax.vmap(lambda g, s, u: _ascend(opt, g, s, u)))
     p = u.shape[-1]
-    history, visited, best, best_n, forward = [], [], None, -1, 0
+    history, visited, best, forward = [], [], _Best(box, "bounces"), 0
     for it in range(iterations):
         eps = rng.standard_normal((starts, samples, p))
         pts = np.concatenate([u[:, None, :] + sigma * eps, u[:, None, :] - sigma * eps, u[:, None, :]], axis=1)
         values = box.to_user(pts.reshape(-1, p))
-        counts = _true_counts(box, values, rigid, config).reshape(starts, 2 * samples + 1)
+        counts, dists = _exact(box, values, rigid, config)
+        counts = counts.reshape(starts, 2 * samples + 1)
         forward += counts.size
-        flat = np.argmax(counts)
-        if counts.flat[flat] > best_n:
-            best_n, best = int(counts.flat[flat]), _full(box, {k: v[flat] for k, v in values.items()})
+        best.update(values, counts, dists)
+        best_n = best.bounces
         visited.append({"bounces": counts.ravel().tolist(), "points": {k: v.tolist() for k, v in values.items()}})
         diff = (counts[:, :samples] - counts[:, samples:2 * samples]).astype(float)
         g = np.einsum("sk,skp->sp", diff, eps) / (2.0 * sigma * samples)
@@ -399,10 +448,11 @@ def perturbation_search(box: Box | None = None, *, stone="paper", config: SimCon
     if progress:
         print(file=sys.stderr)
     if polish:
-        best_n, best, forward = _polish(box, visited, min(4, starts), polish, polish_scale, rigid, config, seed,
-                                        progress, best_n, best, forward, iterations)
+        forward += _polish(box, visited, min(4, starts), polish, polish_scale, rigid, config, seed, progress, best,
+                           iterations)
         history.append(visited[-1])
-    return SearchResult("perturbation", best, best_n, history, box, time.perf_counter() - t0, forward, 0)
+    return SearchResult("perturbation", best.throw, best.bounces, history, box, time.perf_counter() - t0, forward, 0,
+                        best_distance=best.distance)
 
 
 def grid_points(box: Box, per_axis: int) -> dict:
@@ -416,12 +466,13 @@ def grid_points(box: Box, per_axis: int) -> dict:
 def _exhaustive(method: str, box: Box, values: dict, stone, config: SimConfig, lanes: int, progress: bool):
     t0 = time.perf_counter()
     rigid, _ = resolve_stone(stone)
-    counts = _true_counts(box, values, rigid, config, lanes, progress)
-    i = int(np.argmax(counts))
-    best = _full(box, {k: v[i] for k, v in values.items()})
-    hist = [{"iteration": 0, "bounces": [int(counts[i])], "objective": None, "best": int(counts[i]),
+    counts, dists = _exact(box, values, rigid, config, lanes, progress)
+    best = _Best(box, "bounces")
+    best.update(values, counts, dists)
+    hist = [{"iteration": 0, "bounces": [best.bounces], "objective": None, "best": best.bounces,
              "nonfinite": 0, "count_histogram": np.bincount(counts).tolist()}]
-    return SearchResult(method, best, int(counts[i]), hist, box, time.perf_counter() - t0, int(counts.size), 0)
+    return SearchResult(method, best.throw, best.bounces, hist, box, time.perf_counter() - t0, int(counts.size), 0,
+                        best_distance=best.distance)
 
 
 def grid_search(box: Box | None = None, *, per_axis: int = 10, stone="paper", config: SimConfig | None = None,

@@ -159,6 +159,34 @@ def test_polish_samples_near_the_best_throws_and_counts_exactly():
     assert int(again.bounces[0]) == polish["bounces"][i]
 
 
+def test_distance_objective_picks_the_longest_true_distance():
+    """objective="distance": the ascent climbs the distance, and the best throw is the one with the
+    longest *true* distance among every throw simulated (ascent and polish), not the most bounces."""
+    box = make_box({"speed": (2.0, 10.0), "attack": (0.0, 30.0)}, held={"tilt": 20.0, "spin": 15.0})
+    config = SimConfig(max_steps=3000, attitude="fixed")
+    r = gradient_search(box, objective="distance", config=config, starts=2, iterations=2, learning_rate=0.5,
+                        seed=3, polish=6, polish_scale=0.05)
+    assert r.objective == "distance" and r.history[-1]["phase"] == "polish"
+    dists = np.concatenate([h["distance"] for h in r.history])
+    counts = np.concatenate([h["bounces"] for h in r.history])
+    i = int(np.argmax(dists))
+    assert r.best_distance == dists[i] and r.best_bounces == counts[i]
+    again = simulate_batch(box.throws_from_user({k: np.array([r.best[k]]) for k, _, _ in box.searched}),
+                           config=dataclasses.replace(config, record=False))
+    np.testing.assert_allclose(again.distance[0], r.best_distance, rtol=1e-12)
+    assert r.to_dict()["best_distance"] == r.best_distance
+    # On the same throws the two objectives pick different bests, each its own measure's maximum.
+    kw = dict(throws=12, scale=0.3, config=config, seed=0)
+    by_count = local_search(box, {"speed": [6.0], "attack": [10.0]}, **kw)
+    by_dist = local_search(box, {"speed": [6.0], "attack": [10.0]}, objective="distance", **kw)
+    d, n = np.array(by_dist.history[0]["distance"]), np.array(by_dist.history[0]["bounces"])
+    assert by_count.history[0]["distance"] == by_dist.history[0]["distance"]
+    assert (by_dist.best_distance, by_count.best_bounces) == (d.max(), n.max())
+    assert by_dist.best_distance > by_count.best_distance and by_dist.best != by_count.best
+    with pytest.raises(ParameterError, match="objective"):
+        local_search(box, {"speed": [5.0], "attack": [5.0]}, objective="height")
+
+
 def test_gradient_health_counts_exploding_and_vanishing_gradients():
     """Three starts over two iterations: start 0 vanishes throughout, start 1 turns non-finite,
     start 2 explodes once."""
