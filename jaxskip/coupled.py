@@ -31,10 +31,13 @@ The stone steps ``dt_s`` (the fine ``SimConfig.dt`` = 0.25 ms in contact, longer
 conservative-advancement jumps in the air); the water steps once the stone's
 steps since its last one add up to ``water_dt`` (default 1 ms, a tenth of a
 contact), with the stone's pressure averaged over them — four stone steps per
-water step in contact. A water step never exceeds the stability bound
-(:func:`jaxskip.water.stable_dt`): after a flight jump longer than the bound the
-water advances by the bound only (the ripples left behind lag; they are out of
-the stone's way). The window is re-centred at each water step.
+water step in contact. A water step never exceeds the grid's stable step (``grid.time_step``, a
+fraction of :func:`jaxskip.water.stable_dt`): a stone step longer than that (a coarse
+``SimConfig.dt``) is covered by :math:`\lceil dt_s / \text{time\_step} \rceil` water
+substeps, so the water keeps the stone's time; only after a flight jump longer than
+those substeps together does the water advance by less than the jump (the ripples
+left behind lag; they are out of the stone's way). The window is re-centred at each
+water step.
 
 The default window (:func:`default_window`): 64 × 64 columns of 1 cm
 (0.64 m, ~6 stone diameters), effective depth 2 cm — so that
@@ -55,7 +58,7 @@ from .forces import WaterParams
 from .simulate import SimConfig, _new_tracker, _scan, initial_state, make_step
 from ._checks import check_int, check_range
 from .throw import Throw
-from .water import WaterGrid, WaterState, deposit, height_at, make_water_step, still_water
+from .water import WaterGrid, WaterState, deposit, height_at, make_water_step, still_water, water_substeps
 
 
 CLAMP_BLOCKS = (0.32, 0.64)
@@ -123,18 +126,24 @@ def recentre(grid: WaterGrid, water: WaterState, offset, position):
     return jax.lax.cond(jnp.any(d != 0), shift, lambda w: w, water), new
 
 
-def advance_field(grid: WaterGrid, water_step, f: "Field", position, spread: int, dt_max: float) -> "Field":
-    """One water step of the coupled window under the stone's pending push, then re-centring.
+def advance_field(grid: WaterGrid, water_step, f: "Field", position, spread: int, dt_max: float,
+                  substeps: int = 1) -> "Field":
+    """Water steps of the coupled window under the stone's pending push, then re-centring.
 
     ``f.impulse`` [Pa s] was deposited in the window as it stands (``f.offset``), so the water
     steps there, under the averaged pressure ``impulse / pending`` spread by ``spread`` filter
-    passes, by ``min(pending, dt_max)`` seconds; only then is the window re-centred on the
-    stone at ``position`` (3,) [m] (re-centring first would shift the field under a push that
-    stays put: the pressure would land a column or two away from the stone). Returns the new
+    passes: ``substeps`` (static) equal steps covering ``min(pending, substeps * dt_max)``
+    seconds, each at most ``dt_max`` [s]; only then is the window re-centred on the stone at
+    ``position`` (3,) [m] (re-centring first would shift the field under a push that stays put:
+    the pressure would land a column or two away from the stone). Returns the new
     :class:`Field` with nothing pending.
     """
     push = _spread(f.impulse / f.pending, spread)
-    field = water_step(f.water, push, jnp.minimum(f.pending, dt_max))
+    h = jnp.minimum(f.pending, substeps * dt_max) / substeps
+    if substeps == 1:
+        field = water_step(f.water, push, h)
+    else:  # a fixed-length loop: reverse-differentiable
+        field = jax.lax.fori_loop(0, substeps, lambda _, w: water_step(w, push, h), f.water)
     field, offset = recentre(grid, field, f.offset, position)
     zero = jnp.zeros_like(f.pending)
     return Field(field, offset, jnp.zeros_like(f.impulse), zero)
@@ -149,7 +158,8 @@ def make_coupled_step(config: SimConfig, grid: WaterGrid, water_dt: float | None
     window's origin is ``offset * grid.spacing``. ``water_dt`` [s]: the water
     steps once the stone steps since its last step add up to this (default
     ``min(1 ms, grid.time_step)``); the stone's push is averaged over them.
-    ``two_way=False``: the stone does not push the water (one-way: it reads a
+    A stone step ``config.dt`` longer than ``grid.time_step`` gets ``ceil(dt / time_step)`` water
+    substeps. ``two_way=False``: the stone does not push the water (one-way: it reads a
     field that stays as it started; from still water this is flat water).
     ``spread``: passes of a [1, 2, 1]/4 filter over the push before it reaches
     the water (each triangle's force lands on the columns of its centroid; the
@@ -159,12 +169,14 @@ def make_coupled_step(config: SimConfig, grid: WaterGrid, water_dt: float | None
     water_dt = default_water_dt(grid) if water_dt is None else check_range(
         "water_dt", water_dt, 0.0, grid.time_step, unit="s", low_open=True)
     check_int("spread", spread, minimum=0, maximum=100)
+    # A stone step longer than the water's stable step is covered by substeps (the water keeps time).
+    substeps = water_substeps(grid, config.dt)
     water_step = make_water_step(grid, clamp_blocks=tuple(
         tuple(min(n, max(8, math.ceil(side / grid.spacing))) for n in grid.shape) for side in CLAMP_BLOCKS))
     dt_max = grid.time_step
 
     def advance_water(f: Field, position):
-        return advance_field(grid, water_step, f, position, spread, dt_max)
+        return advance_field(grid, water_step, f, position, spread, dt_max, substeps)
 
     def step(carry, stone: RigidStone, water: WaterParams):
         state, tr, f = carry

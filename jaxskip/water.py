@@ -55,8 +55,11 @@ stiffest mode of the isotropic stencil is the checkerboard, with
 
 (:func:`stable_dt`), derived for the depth :math:`H` the waves see. Deeper
 water anywhere (a crest) shortens it; :class:`WaterGrid` holds ``dt`` to
-``cfl`` (default 0.5) of the bound at the rest depth, and :func:`make_water_step`
-refuses a ``dt`` beyond the bound.
+``cfl`` (default 0.5) of the bound at the rest depth and refuses a ``dt`` beyond
+the bound; :func:`water_substeps` gives the substeps that keep a longer interval
+within it. The pure step of :func:`make_water_step` takes ``dt`` as a traced value
+and cannot check it: its callers keep it within ``grid.time_step`` (the coupled
+stone substeps, :mod:`jaxskip.coupled`).
 
 Keeping columns non-negative (the clamp)
 ----------------------------------------

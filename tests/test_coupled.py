@@ -114,3 +114,16 @@ def test_the_push_lands_under_the_stone_when_the_window_moves(spread):
     i, j = np.unravel_index(int(jnp.argmin(out.water.height)), grid.shape)
     assert (i + 2, j) == (8, 8)                                       # the dent, in world columns
     assert float(out.pending) == 0.0 and not np.any(np.asarray(out.impulse))
+
+
+def test_a_stone_step_longer_than_the_water_step_gets_water_substeps(paper, water):
+    """With a coarse stone step (5 ms) on a grid whose stable step is 3.9 ms the water substeps
+    (two steps of 2.5 ms) and keeps the stone's time instead of falling behind it; it stays finite."""
+    grid = WaterGrid(shape=(32, 32), spacing=0.004, depth=0.02, boundary="sponge", sponge_width=4, clamp="smooth")
+    assert 2.5e-3 < grid.time_step < 5e-3
+    config = SimConfig(record=False, dt=5e-3, flight="step", max_steps=60, duration=10.0)
+    throw = Throw.from_degrees(speed=3.0, tilt=20.0, attack=10.0, spin=10.0)
+    state, tr, _, f = jax.jit(lambda t: rollout_coupled(config, grid, t, paper, water))(throw)
+    assert int(tr.contacts) >= 1 and float(state.time) > 0.1
+    np.testing.assert_allclose(float(f.water.time), float(state.time), rtol=1e-12)
+    assert np.all(np.isfinite(np.asarray(f.water.height)))
