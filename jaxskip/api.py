@@ -275,6 +275,7 @@ def simulate(
     if throw.shape != ():
         raise ParameterError(f"simulate() takes one throw; this one has batch shape {throw.shape} "
                              "(use jax.vmap(rollout) for batches)")
+    throw.check()
     config = SimConfig() if config is None else config
     chunk = check_int("chunk", chunk, minimum=1)
     water = _default_water(config.force.law, x64) if water is None else water

@@ -153,6 +153,7 @@ def simulate_batch(
         raise ParameterError(f"throws must be a jaxskip.Throw, got {type(throws).__name__}")
     if len(throws.shape) != 1 or throws.shape[0] < 1:
         raise ParameterError(f"throws must have exactly one batch axis with at least one throw; got shape {throws.shape}")
+    throws.check()
     config = SimConfig() if config is None else config
     sharding = _lane_sharding()
     n_devices = 1 if sharding is None else len(sharding.mesh.devices.flat)

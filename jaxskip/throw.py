@@ -63,15 +63,7 @@ class Throw:
         Each argument may be a scalar or an array; they are broadcast together, so
         ``Throw.create(tilt=np.linspace(0.1, 0.8, 64))`` is a batch of 64 throws for ``vmap``.
         """
-        pi2 = math.pi / 2
-        fields = dict(
-            speed=check_array("speed", speed, 0.0, MAX_SPEED, unit="m/s", low_open=True),
-            tilt=check_array("tilt", tilt, -pi2, pi2, unit="rad", low_open=True, high_open=True),
-            attack=check_array("attack", attack, -pi2, pi2, unit="rad"),
-            spin=check_array("spin", spin, -MAX_SPIN, MAX_SPIN, unit="rad/s"),
-            height=check_array("height", height, 0.0, 100.0, unit="m"),
-            heading=check_array("heading", heading, -1e6, 1e6, unit="rad"),
-        )
+        fields = _checked(speed, tilt, attack, spin, height, heading)
         shape = np.broadcast_shapes(*(a.shape for a in fields.values()))
         return cls(**{k: float_array(np.broadcast_to(a, shape)) for k, a in fields.items()})
 
@@ -88,10 +80,30 @@ class Throw:
         return cls.create(speed=speed, tilt=np.radians(tilt), attack=np.radians(attack), spin=2 * math.pi * spin,
                           height=height, heading=np.radians(heading))
 
+    def check(self) -> "Throw":
+        """Check a throw built without :meth:`create` (e.g. ``Throw(...)`` or ``dataclasses.replace``)
+        as :meth:`create` does; returns it unchanged. Needs concrete values: :func:`jaxskip.simulate`
+        and :func:`jaxskip.simulate_batch` call it before tracing."""
+        _checked(**{f.name: np.asarray(getattr(self, f.name)) for f in dataclasses.fields(self)})
+        return self
+
     @property
     def shape(self) -> tuple:
         """Batch shape of the throw (``()`` for a single throw)."""
         return tuple(self.speed.shape)
+
+
+def _checked(speed, tilt, attack, spin, height, heading) -> dict:
+    """The fields of a throw in SI units, checked elementwise (NumPy float64 arrays)."""
+    pi2 = math.pi / 2
+    return dict(
+        speed=check_array("speed", speed, 0.0, MAX_SPEED, unit="m/s", low_open=True),
+        tilt=check_array("tilt", tilt, -pi2, pi2, unit="rad", low_open=True, high_open=True),
+        attack=check_array("attack", attack, -pi2, pi2, unit="rad"),
+        spin=check_array("spin", spin, -MAX_SPIN, MAX_SPIN, unit="rad/s"),
+        height=check_array("height", height, 0.0, 100.0, unit="m"),
+        heading=check_array("heading", heading, -1e6, 1e6, unit="rad"),
+    )
 
 
 def attitude(tilt, heading):

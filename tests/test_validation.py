@@ -88,3 +88,23 @@ def test_builtin_stones_are_built_once_and_still_validated():
             resolve_stone("paper", mass=bad)
     with pytest.raises(ParameterError, match="density"):
         resolve_stone("disk", density=0.0)
+
+
+@pytest.mark.parametrize("field, value, name", [("speed", float("nan"), "speed"), ("speed", -5.0, "speed"),
+                                                 ("tilt", 3.0, "tilt"), ("height", -1.0, "height")])
+def test_a_throw_built_directly_is_checked_before_simulating(field, value, name):
+    """A Throw made without create() (dataclasses.replace, Throw(...)) is checked by simulate() and
+    simulate_batch(): a clear error naming the field, not a traceback or a silent answer."""
+    import dataclasses
+
+    import jax
+    import numpy as np
+
+    from jaxskip import simulate_batch
+
+    bad = dataclasses.replace(Throw.from_degrees(), **{field: np.float64(value)})
+    with pytest.raises(ParameterError, match=name):
+        simulate(bad)
+    batch = jax.tree_util.tree_map(lambda a: np.asarray(a)[None], bad)
+    with pytest.raises(ParameterError, match=name):
+        simulate_batch(batch)
