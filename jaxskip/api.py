@@ -46,6 +46,9 @@ class Contact:
     """Tilt (face normal to vertical) at the start [rad]."""
     tilt_end: float
     """Tilt at the end [rad]."""
+    x_end: float
+    """Downrange position of the centre of mass at the contact's end [m] (at the end of the run if
+    the stone never left the water)."""
 
     def to_dict(self) -> dict:
         """JSON-ready: values that are not known (NaN, e.g. the tilt at the end of the last
@@ -204,7 +207,7 @@ def _blank_carry(contacts: int, x64: bool):
     JAX arrays are immutable, and eight transfers cost a warm call ~0.8 ms."""
     z = lambda *shape: float_array(np.zeros(shape))
     state = StoneState(z(3), z(3), z(4), z(3), z())
-    return state, Tracker(counters=jax.device_put(np.zeros(6, np.int32)), leave=z(2), log=z(contacts, 7))
+    return state, Tracker(counters=jax.device_put(np.zeros(6, np.int32)), leave=z(5), log=z(contacts, 10))
 
 
 def _release(throw: Throw, stone: RigidStone, contacts: int):
@@ -345,6 +348,7 @@ def simulate(
             x=float(np.asarray(tr.x_start[i, :2]) @ along),
             tilt_start=float(tr.tilt_start[i]),
             tilt_end=float(tr.tilt_end[i]) if np.isfinite(tr.tilt_end[i]) else float("nan"),
+            x_end=float(np.asarray(tr.x_end[i, :2] if np.isfinite(tr.t_end[i]) else state.position[:2]) @ along),
         )
         for i in range(k)
     ]

@@ -176,12 +176,13 @@ class Tracker:
     """(6,) int32: alive (0/1), outcome, phase, bounces, contacts, contact steps (see the
     properties of the same names)."""
     leave: jax.Array
-    """(2,) time [s] and tilt [rad] at which the current contact lost its last wet triangle
-    (NaN before the first); see ``t_leave``, ``tilt_leave``."""
+    """(5,) time [s], tilt [rad] and centre of mass (x, y, z) [m] at which the current contact lost
+    its last wet triangle (NaN before the first); see ``t_leave``, ``tilt_leave``."""
     log: jax.Array
-    """(K, 7) contact log, one row per contact: start time [s], centre of mass at the start
-    (x, y, z) [m], tilt at the start [rad], end time [s], tilt at the end [rad]; NaN where not
-    reached. Read it through ``t_start``, ``x_start``, ``tilt_start``, ``t_end``, ``tilt_end``."""
+    """(K, 10) contact log, one row per contact: start time [s], centre of mass at the start
+    (x, y, z) [m], tilt at the start [rad], end time [s], tilt at the end [rad], centre of mass at
+    the end (x, y, z) [m]; NaN where not reached. Read it through ``t_start``, ``x_start``,
+    ``tilt_start``, ``t_end``, ``tilt_end``, ``x_end``."""
 
     @property
     def alive(self) -> jax.Array:
@@ -258,6 +259,11 @@ class Tracker:
         """(..., K) tilt at contact end [rad]."""
         return self.log[..., 6]
 
+    @property
+    def x_end(self) -> jax.Array:
+        """(..., K, 3) centre of mass at contact end [m] (NaN: not ended)."""
+        return self.log[..., 7:10]
+
     def finish(self) -> "Tracker":
         """The tracker at the end of a rollout: a stone still in play gets outcome ``step_limit``.
 
@@ -321,7 +327,7 @@ def initial_state(throw: Throw, stone: RigidStone) -> StoneState:
 
 def _new_tracker(k: int, dtype) -> Tracker:
     counters = jnp.zeros(6, jnp.int32).at[_ALIVE].set(1)
-    return Tracker(counters=counters, leave=jnp.full(2, jnp.nan, dtype), log=jnp.full((k, 7), jnp.nan, dtype))
+    return Tracker(counters=counters, leave=jnp.full(5, jnp.nan, dtype), log=jnp.full((k, 10), jnp.nan, dtype))
 
 
 def _spin_from_momentum(stone, R, L):
@@ -621,7 +627,8 @@ def make_step(config: SimConfig, surface=flat_surface, push: bool = False):
         end_row = jnp.concatenate([row[:5], tr.leave])
         row = jnp.where(log_new, start_row, jnp.where(log_end, end_row, row))
         # The log itself is written in ``step``, outside the branch (see there).
-        tr1 = Tracker(counters=counters, leave=jnp.where(leave, jnp.stack([t, tilt]), tr.leave), log=None)
+        tr1 = Tracker(counters=counters, leave=jnp.where(leave, jnp.concatenate([t[None], tilt[None], state.position]),
+                                                          tr.leave), log=None)
 
         # --- integrate; a stone out of play keeps its state ---
         x1, v1, q1, w1 = _integrate(config, stone, water, surface, state, R, L, dt, first, dry)
@@ -643,7 +650,7 @@ def make_step(config: SimConfig, surface=flat_surface, push: bool = False):
 
     def step(carry, stone: RigidStone, water: WaterParams):
         # Out of play: skip the work (a real branch for one throw; under vmap it becomes a select
-        # of both branches' outputs). The (K, 7) contact log is not an output of the branch: each
+        # of both branches' outputs). The (K, 10) contact log is not an output of the branch: each
         # branch returns the one row to write, and the row is written here. Under vmap a select
         # of the whole log copied it every step (~200 of ~850 us at 256 lanes in a per-kernel
         # profile; 5-12 % end to end).

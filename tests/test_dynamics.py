@@ -162,21 +162,23 @@ def test_contact_log_agrees_with_the_records(paper, water):
     t, x = np.asarray(rec.time), np.asarray(rec.position)
     wet, gap = np.asarray(rec.wetted_area) > 0.0, np.asarray(rec.gap)
     live = np.concatenate([[True], np.diff(t) > 0])  # frozen rows repeat the last time
-    starts, ends, phase, t_leave = [], [], 0, np.nan
+    starts, ends, phase, leave = [], [], 0, None
     for i in np.flatnonzero(live):
         if wet[i] and phase == 0:
             starts.append((t[i], x[i, 0])); phase = 1
         elif wet[i] and phase == 2:
             phase = 1
         elif not wet[i] and phase == 1:
-            t_leave, phase = t[i], 2
+            leave, phase = (t[i], x[i]), 2
         elif not wet[i] and phase == 2 and gap[i] > config.bounce_clearance:
-            ends.append(t_leave); phase = 0
+            ends.append(leave); phase = 0
     n = int(tr.contacts)
     assert n == len(starts) >= 5 and int(tr.bounces) == len(ends)
     np.testing.assert_array_equal(np.asarray(tr.t_start[:n]), [s[0] for s in starts])
     np.testing.assert_array_equal(np.asarray(tr.x_start[:n, 0]), [s[1] for s in starts])
-    np.testing.assert_array_equal(np.asarray(tr.t_end[:len(ends)]), ends)
+    np.testing.assert_array_equal(np.asarray(tr.t_end[:len(ends)]), [e[0] for e in ends])
+    np.testing.assert_array_equal(np.asarray(tr.x_end[:len(ends)]), [e[1] for e in ends])
+    assert np.all(np.isnan(np.asarray(tr.x_end[len(ends):])))
     assert np.all(np.isnan(np.asarray(tr.t_end[len(ends):]))) and np.all(np.isnan(np.asarray(tr.t_start[n:])))
     assert np.all(np.asarray(tr.t_end[:len(ends)]) > np.asarray(tr.t_start[:len(ends)]))
 
