@@ -180,7 +180,9 @@ def animate_throw(result, stone, path, *, fps: int = 20):
     field = _check_field(result)
     frames = field["frames"]
     depth = field["depth"]
-    lim = max(max(float(np.abs(f[2] - depth).max()) for f in frames) * 1e3, 1e-6)
+    # Colour scale: the 99.5th percentile of |elevation| over all frames, not the maximum — one
+    # spike under the stone (tens of mm in a single column) would otherwise wash out every ripple.
+    lim = max(float(np.percentile(np.abs(np.stack([f[2] for f in frames]) - depth), 99.5)) * 1e3, 1e-6)
     pos = np.asarray(result.trajectory["position"])
     times = np.asarray(result.trajectory["time"])
     heading = float(result.throw.heading)
@@ -195,7 +197,7 @@ def animate_throw(result, stone, path, *, fps: int = 20):
                    cmap="RdBu_r", vmin=-lim, vmax=lim, interpolation="bilinear")
         for f in _stone_world(stone, position, orientation):
             top.fill(f[:, 0], f[:, 1], color="0.3", alpha=0.6, lw=0)
-        top.set_title(f"t = {t:.3f} s  (elevation ±{lim:.1f} mm)", fontsize=9)
+        top.set_title(f"t = {t:.3f} s  (elevation ±{lim:.1f} mm, clipped)", fontsize=9)
         top.set_xlabel("x [m]")
         top.set_ylabel("y [m]")
         seen = times <= t
