@@ -1,9 +1,11 @@
 r"""Hydrodynamic force on the stone: a per-triangle law, summed over the mesh.
 
 Two force laws act on each triangle :math:`i` with immersed area :math:`S_i`,
-outward unit normal :math:`n_i` and velocity relative to the water :math:`V`
-(by default the triangle's own, :math:`V = v + \omega \times (G_i - x)` at the
-centroid :math:`G_i` of its immersed part).
+outward unit normal :math:`n_i` and velocity relative to the water :math:`V`:
+by default (``velocity="body"``) the centre-of-mass velocity :math:`V = v` for every
+triangle, spin acting only through the torques; with ``velocity="local"`` the
+triangle's own :math:`V = v + \omega \times (G_i - x)` at the centroid :math:`G_i`
+of its immersed part (see :attr:`ForceModel.velocity`).
 
 ``law="seed"`` — Do, Lee & Ryu, eqs. (1) and (2)
     .. math::
@@ -31,7 +33,13 @@ centroid :math:`G_i` of its immersed part).
 Which faces feel the water is an explicit choice: ``faces="leading"`` (default)
 loads only immersed faces moving into the water (:math:`n_i\cdot V > 0`);
 behind a trailing face the flow separates and a cavity forms, so it carries
-no pressure. ``faces="all"`` loads every immersed face.
+no pressure. ``faces="all"`` loads every immersed face; on a trailing face
+(:math:`n_i\cdot V < 0`) both lifts change sign with :math:`n_i\cdot V`, so they
+oppose the normal component of :math:`V` (the seed law's :math:`u_i` above; for
+Bocquet's law the lift then points along :math:`+n_i`, not the inward normal).
+Either way the force jumps when a wet face turns through :math:`n_i\cdot V = 0`
+(switched on or off, or its lift flipped); gradients do not see such jumps, and
+they make a free stone's trajectory piecewise smooth on a fine scale.
 """
 
 from __future__ import annotations
@@ -100,7 +108,10 @@ class WaterParams:
 # C_l = 1 and C_f in {0.1, 0.3, 1}, C_f = 0.3 puts the Clanet disk's minimum bounce
 # speed at 20 deg tilt / 20 deg attack nearest Clanet et al.'s ~2.5 m/s (2.0 m/s) while
 # keeping the magic-angle minimum at 15-20 deg, no bounce at 50 deg, and N ~ V^2
-# (log-log slope 2.2) at grazing incidence. For the seed law C_f = 0.1 follows the
+# (log-log slope 2.2) at grazing incidence -- figures from the session-1 calibration.
+# Today's U_min sweeps (bisection up to 8 m/s) put the minimum at 14 deg (1.76 m/s)
+# and find a bounce at 50 deg from 6.4 m/s: at 50 deg the disk needs a high speed,
+# but it does bounce. For the seed law C_f = 0.1 follows the
 # physics.md prototype (12-14 bounces at 5 m/s); with C_l = C_f = 1 it barely skips.
 DEFAULT_COEFFICIENTS = {
     "seed": dict(c_lift=1.0, c_friction=0.1),
@@ -176,7 +187,8 @@ def triangle_force(model: ForceModel, params: WaterParams, normal, area, velocit
             # |cos θ| = sqrt(1 - (n·V)^2/|V|^2), guarded at |V| = 0 and |cos θ| = 0.
             ok = v2 > 0.0
             cos2 = jnp.where(ok, 1.0 - n_v**2 / jnp.where(ok, v2, 1.0), 0.0)
-            lift = lift * _safe_norm(jnp.clip(cos2, 0.0, None)[None])
+            pos = cos2 > 0.0
+            lift = lift * jnp.where(pos, jnp.sqrt(jnp.where(pos, cos2, 1.0)), 0.0)
         force = drag + lift
     else:
         v_t = V - n_v * normal
