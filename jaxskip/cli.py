@@ -2,7 +2,9 @@
 
 User units at this edge only: speed m/s, angles degrees, spin rev/s; converted
 once into :class:`jaxskip.Throw` (SI). Bad input exits with status 2 and a
-one-line message naming the parameter, before anything is compiled.
+one-line message naming the flag, before anything is compiled or written.
+The simulation flags (stone, force law, time step, ...) are shared by every
+subcommand: :func:`add_common` defines them, :func:`simulation` builds them.
 """
 
 from __future__ import annotations
@@ -11,10 +13,14 @@ import argparse
 import dataclasses
 import json
 import math
+import os
 import sys
 
-EXIT_USAGE = 2
+from ._checks import ParameterError
+from .settings import SIM_DEFAULTS, describe, simulation  # noqa: F401 (shared with cli_search)
 
+EXIT_USAGE = 2
+PICTURES = (".png", ".pdf", ".svg")
 
 class _Parser(argparse.ArgumentParser):
     def error(self, message):  # argparse's own errors: same style, exit 2
@@ -34,38 +40,84 @@ def _float(name):
     return parse
 
 
+def add_common(p, *, stone="paper", attitude="free", plot="write a picture (PNG/PDF/SVG)"):
+    """The simulation flags and ``--json``/``--plot``; every simulation flag defaults to None (not given),
+    ``stone``/``attitude`` only name the default in the help."""
+    p.add_argument("--stone", metavar="NAME|PATH.obj",
+                   help=f"paper, disk, clanet, ellipsoid, pebble, or an .obj file in metres (default {stone})")
+    m = p.add_mutually_exclusive_group()
+    m.add_argument("--mass", type=_float("--mass"), metavar="KG", help="stone mass [kg] (default: from density)")
+    m.add_argument("--density", type=_float("--density"), metavar="KG/M3", help="stone density [kg/m^3]")
+    p.add_argument("--force-law", choices=("bocquet", "seed"), help="water force law (default bocquet)")
+    p.add_argument("--c-lift", type=_float("--c-lift"), help="lift coefficient (default: the law's)")
+    p.add_argument("--c-friction", type=_float("--c-friction"), help="friction coefficient (default: the law's)")
+    p.add_argument("--velocity", choices=("body", "local"),
+                   help="velocity the water sees: centre of mass (body, default) or each triangle's v + w x r")
+    p.add_argument("--attitude", choices=("free", "fixed"),
+                   help=f"6-DoF (free) or tilt held (fixed) (default {attitude})")
+    p.add_argument("--integrator", choices=("euler", "rk4"), help="time integrator (default euler)")
+    p.add_argument("--duration", type=_float("--duration"), metavar="S", help="simulated time limit [s] (default 5)")
+    p.add_argument("--dt", type=_float("--dt"), metavar="S", help="time step in contact [s] (default 2.5e-4)")
+    p.add_argument("--max-steps", type=int, metavar="N",
+                   help="step budget (default: enough to spend --duration in the water at --dt; 20000 at the defaults)")
+    p.add_argument("--json", action="store_true", help="print one JSON object on stdout")
+    p.add_argument("--plot", metavar="PATH", help=plot)
+
+
+def sim_values(args) -> dict:
+    """The simulation flags' values: given, else :data:`SIM_DEFAULTS`."""
+    return {k: v if getattr(args, k, None) is None else getattr(args, k) for k, v in SIM_DEFAULTS.items()}
+
+
+def check_output(flag: str, path, suffixes=None) -> None:
+    """Refuse, before any work, an output path that cannot be written: a wrong suffix, a folder that does not
+    exist, a folder where a file goes (or a file where a folder goes: ``suffixes`` None)."""
+    if path is None:
+        return
+    if suffixes and not str(path).lower().endswith(suffixes):
+        ends = " or ".join(filter(None, [", ".join(suffixes[:-1]), suffixes[-1]]))
+        raise ParameterError(f"{flag} must end in {ends}, got {path!r}")
+    folder = os.path.dirname(os.path.abspath(path))
+    if not os.path.isdir(folder):
+        raise ParameterError(f"{flag} {path!r}: the folder {folder!r} does not exist")
+    if os.path.exists(path) and os.path.isdir(path) == bool(suffixes):
+        raise ParameterError(f"{flag} {path!r} is {'a folder' if suffixes else 'a file, not a folder'}")
+    if not os.access(path if os.path.isdir(path) else folder, os.W_OK):
+        raise ParameterError(f"{flag} {path!r}: cannot write there (no permission)")
+
+
+def _finite(obj):
+    """``obj`` with every non-finite float (NaN, inf) replaced by None: strict JSON."""
+    if isinstance(obj, float):
+        return obj if math.isfinite(obj) else None
+    if isinstance(obj, dict):
+        return {k: _finite(v) for k, v in obj.items()}
+    if isinstance(obj, (list, tuple)):
+        return [_finite(v) for v in obj]
+    return obj
+
+
+def print_json(obj) -> None:
+    """Print one strict JSON object on stdout (values that are not finite are null)."""
+    print(json.dumps(_finite(obj), allow_nan=False))
+
+
 def build_parser() -> argparse.ArgumentParser:
     p = _Parser(prog="jaxskip", description="Differentiable stone-skipping simulator.")
     sub = p.add_subparsers(dest="command", required=True, parser_class=_Parser)
-    t = sub.add_parser("throw", help="simulate one throw on flat water", description=(
-        "Simulate one throw. With no options: a good default throw that skips many times."))
+    t = sub.add_parser("throw", help="simulate one throw (flat water, or a coupled height field: --water field)",
+                       description="Simulate one throw. With no options: a good default throw that skips many times.")
     t.add_argument("--speed", type=_float("--speed"), default=8.0, metavar="M/S", help="speed [m/s] (default 8)")
     t.add_argument("--tilt", type=_float("--tilt"), default=20.0, metavar="DEG",
                    help="face angle to the water, leading edge up [deg], in (-90, 90) (default 20)")
     t.add_argument("--attack", type=_float("--attack"), default=5.0, metavar="DEG",
                    help="velocity angle below the horizontal [deg], in [-90, 90] (default 5)")
     t.add_argument("--spin", type=_float("--spin"), default=20.0, metavar="REV/S",
-                   help="spin about the face normal [rev/s] (default 20)")
+                   help="spin about the face normal [rev/s], in [-500, 500] (default 20)")
     t.add_argument("--height", type=_float("--height"), default=0.001, metavar="M",
                    help="clearance of the lowest point above the water at release [m] (default 0.001)")
     t.add_argument("--heading", type=_float("--heading"), default=0.0, metavar="DEG", help="direction [deg] (default 0)")
-    t.add_argument("--stone", default="paper", metavar="NAME|PATH.obj",
-                   help="paper (default), disk, clanet, ellipsoid, pebble, or an .obj file in metres")
-    t.add_argument("--mass", type=_float("--mass"), default=None, metavar="KG", help="stone mass [kg] (default: from density)")
-    t.add_argument("--density", type=_float("--density"), default=None, metavar="KG/M3", help="stone density [kg/m^3]")
-    t.add_argument("--force-law", choices=("bocquet", "seed"), default="bocquet", help="water force law (default bocquet)")
-    t.add_argument("--c-lift", type=_float("--c-lift"), default=None, help="lift coefficient (default: the law's)")
-    t.add_argument("--c-friction", type=_float("--c-friction"), default=None, help="friction coefficient (default: the law's)")
-    t.add_argument("--velocity", choices=("body", "local"), default="body",
-                   help="velocity the water sees: centre of mass (body, default) or each triangle's v + w x r")
-    t.add_argument("--attitude", choices=("free", "fixed"), default="free", help="6-DoF (free) or tilt held (fixed)")
-    t.add_argument("--integrator", choices=("euler", "rk4"), default="euler", help="time integrator (default euler)")
-    t.add_argument("--duration", type=_float("--duration"), default=5.0, metavar="S", help="simulated time limit [s] (default 5)")
-    t.add_argument("--dt", type=_float("--dt"), default=2.5e-4, metavar="S", help="time step in contact [s] (default 2.5e-4)")
-    t.add_argument("--max-steps", type=int, default=None, metavar="N",
-                   help="step budget (default: enough to spend --duration in the water at --dt; 20000 at the defaults)")
-    t.add_argument("--json", action="store_true", help="print one JSON object on stdout")
-    t.add_argument("--plot", metavar="PATH", default=None, help="write the side view (PNG/PDF/SVG)")
+    add_common(t, plot="write the side view (PNG/PDF/SVG)")
     t.add_argument("--water", choices=("flat", "field"), default="flat",
                    help="flat water (default, the validated model) or a two-way coupled height field in a "
                         "window that follows the stone (64x64 columns of 1 cm, depth 2 cm)")
@@ -75,7 +127,7 @@ def build_parser() -> argparse.ArgumentParser:
                    help="(--water field) write an animation of the stone and the water (GIF)")
     from .cli_search import add_parsers
 
-    add_parsers(sub, _float)
+    add_parsers(sub)
     return p
 
 
@@ -101,29 +153,19 @@ def _summary(result) -> str:
 
 
 def _throw(args) -> int:
+    for flag, suffixes in (("--plot", PICTURES), ("--water-plot", PICTURES), ("--animate", (".gif",))):
+        check_output(flag, getattr(args, flag[2:].replace("-", "_")), suffixes)
+    if args.water == "flat" and (args.animate or args.water_plot):
+        raise ParameterError("--animate and --water-plot need --water field (flat water has no ripples to draw)")
     import jax
 
     jax.config.update("jax_enable_x64", True)  # results match the float64 test suite
-    from . import ForceModel, SimConfig, Throw, simulate, water_params
-    from .api import resolve_stone
-    from .simulate import steps_for
+    from . import Throw, simulate
 
     throw = Throw.from_degrees(speed=args.speed, tilt=args.tilt, attack=args.attack, spin=args.spin,
                                height=args.height, heading=args.heading)
-    max_steps = steps_for(args.duration, args.dt) if args.max_steps is None else args.max_steps
-    config = SimConfig(dt=args.dt, duration=args.duration, max_steps=max_steps, integrator=args.integrator,
-                       attitude=args.attitude, force=ForceModel(law=args.force_law, velocity=args.velocity))
-    water = water_params(args.force_law, c_lift=args.c_lift, c_friction=args.c_friction)
-    stone, _ = resolve_stone(args.stone, mass=args.mass, density=args.density)
-    from ._checks import ParameterError
-
-    for flag, path in (("--plot", args.plot), ("--water-plot", args.water_plot)):
-        if path is not None and not str(path).lower().endswith((".png", ".pdf", ".svg")):
-            raise ParameterError(f"{flag} must end in .png, .pdf or .svg, got {path!r}")
-    if args.animate is not None and not str(args.animate).lower().endswith(".gif"):
-        raise ParameterError(f"--animate must end in .gif, got {args.animate!r}")
-    if args.water == "flat" and (args.animate or args.water_plot):
-        raise ParameterError("--animate and --water-plot need --water field (flat water has no ripples to draw)")
+    values = sim_values(args)
+    config, water, stone = simulation(**values)
     progress = sys.stderr.isatty() and not args.json
     field = None
     if args.water == "field":
@@ -133,7 +175,7 @@ def _throw(args) -> int:
     # With a field, snapshot the water every 40 steps (10 ms in contact) for the pictures.
     chunk = 40 if (args.animate or args.water_plot) else 1000
     result = simulate(throw, stone, water=water, config=config, progress=progress, water_field=field, chunk=chunk)
-    result = dataclasses.replace(result, stone_name=_stone_label(args.stone))
+    result = dataclasses.replace(result, stone_name=_stone_label(values["stone"]))
     if args.plot:
         from .plotting import plot_throw
 
@@ -145,13 +187,15 @@ def _throw(args) -> int:
     if args.animate:
         from .plotting import animate_throw
 
+        if progress:
+            print("writing animation ...", file=sys.stderr, flush=True)
         animate_throw(result, stone, args.animate)
     if args.json:
         out = result.to_dict()
         for key in ("plot", "water_plot", "animate"):
             if getattr(args, key):
                 out[key] = str(getattr(args, key))
-        print(json.dumps(out, allow_nan=False))  # strict JSON: unknown values are null
+        print_json(out)
     else:
         print(_summary(result))
         if result.field:
@@ -166,15 +210,24 @@ def _throw(args) -> int:
 
 
 def _stone_label(stone) -> str:
-    import os
-
     return os.path.basename(str(stone))
+
+
+def _with_flag(message: str, args) -> str:
+    """A library message begins with the parameter's name (``speed_range is inverted: ...``): at this edge,
+    the flag's (``--speed-range is inverted: ...``)."""
+    names = {d: "--" + d.replace("_", "-") for d in vars(args) if d not in ("command", "kind", "folders")}
+    if args.command != "throw":
+        from .cli_search import flag_names
+
+        names.update(flag_names(args))
+    word, space, rest = message.partition(" ")
+    return f"{names[word]} {rest}" if space and word in names else message
 
 
 def main(argv=None) -> int:
     """Entry point of the ``jaxskip`` command; returns the exit status."""
     args = build_parser().parse_args(argv)
-    from ._checks import ParameterError
     from .mesh import MeshError
 
     try:
@@ -182,17 +235,10 @@ def main(argv=None) -> int:
             return _throw(args)
         from .cli_search import run_optimize, run_sweep_command
 
-        if args.command == "optimize":
-            return run_optimize(args)
-        if args.command == "sweep":
-            return run_sweep_command(args)
-    except (ParameterError, MeshError, ValueError) as exc:
-        print(f"jaxskip: error: {exc}", file=sys.stderr)
+        return run_optimize(args) if args.command == "optimize" else run_sweep_command(args)
+    except (ParameterError, MeshError, ValueError, OSError) as exc:
+        print(f"jaxskip: error: {_with_flag(str(exc), args)}", file=sys.stderr)
         return EXIT_USAGE
-    except OSError as exc:
-        print(f"jaxskip: error: {exc}", file=sys.stderr)
-        return EXIT_USAGE
-    return EXIT_USAGE
 
 
 if __name__ == "__main__":

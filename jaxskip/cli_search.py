@@ -1,87 +1,115 @@
 """``jaxskip optimize`` and ``jaxskip sweep``: the command-line edge of the :mod:`optimize` package.
 
-Same conventions as ``jaxskip throw``: speed in m/s, angles in degrees, spin in rev/s, converted once;
-``--json`` prints exactly one JSON object; bad input exits with status 2 and a one-line message.
+Same conventions as ``jaxskip throw`` (and its simulation flags, :func:`jaxskip.cli.add_common`): speed in
+m/s, angles in degrees, spin in rev/s, converted once; ``--json`` prints exactly one JSON object; bad input
+exits with status 2 and a one-line message naming the flag, before anything is compiled or written. A flag
+that the chosen method (or sweep kind) does not use is refused, not ignored.
 """
 
 from __future__ import annotations
 
-import json
 import sys
 
-from ._checks import ParameterError
+from ._checks import ParameterError, check_int
+from .cli import PICTURES, SIM_DEFAULTS, _float, add_common, check_output, describe, print_json, sim_values, simulation
 
 RANGES = (("speed", "M/S", "speed [m/s]", (3.0, 12.0)), ("tilt", "DEG", "tilt [deg]", (5.0, 45.0)),
           ("attack", "DEG", "attack [deg]", (0.0, 30.0)), ("spin", "REV/S", "spin [rev/s]", (0.0, 20.0)))
 
+METHODS = GRADIENT, PERTURBATION, GRID, RANDOM = ("gradient", "perturbation", "grid", "random")
+ASCENTS = (GRADIENT, PERTURBATION)
+#: ``optimize`` flags that only some methods use (dest: those methods); given to another method: an error.
+METHOD_FLAGS = {"objective": (GRADIENT,), "starts": ASCENTS, "iterations": ASCENTS, "learning_rate": ASCENTS,
+                "polish": ASCENTS, "samples": (PERTURBATION,), "horizon": (GRADIENT,), "per_axis": (GRID,),
+                "throws": (RANDOM,), "seed": (GRADIENT, PERTURBATION, RANDOM)}
+#: Where the command line's default differs from the search function's (the others: the function's).
+METHOD_DEFAULTS = {"polish": 256, "per_axis": 6}
+KINDS = ("umin", "domain")
+#: ``sweep`` flags by the kinds that use them (``merge`` uses none of them: it reads the shards' spec.json).
+SWEEP_FLAGS = {"tilts": KINDS, "attacks": KINDS, "speed": ("domain",), "speed_range": ("umin",),
+               "iterations": ("umin",), "spin": KINDS, "chunk_size": KINDS, "shard_index": KINDS,
+               "num_shards": KINDS, **dict.fromkeys(SIM_DEFAULTS, KINDS)}
 
-def add_parsers(sub, number) -> None:
-    """Add the ``optimize`` and ``sweep`` subcommands to ``sub`` (``number(name)`` parses a float)."""
+
+def _only(p, table, flag, text, **kw):
+    """A flag that only some methods (kinds) use: its help names them; default None (not given)."""
+    p.add_argument(flag, help=f"({', '.join(table[flag[2:].replace('-', '_')])}) {text}", **kw)
+
+
+def add_parsers(sub) -> None:
+    """Add the ``optimize`` and ``sweep`` subcommands to ``sub``."""
     o = sub.add_parser("optimize", help="search for the throw with the most bounces", description=(
         "Search the throw parameters within bounds for the most bounces (true counts from the exact "
         "simulation). Each parameter is searched over --NAME-range LOW HIGH (default: the human box "
-        "speed 3-12 m/s, tilt 5-45 deg, attack 0-30 deg, spin 0-20 rev/s) or held with --NAME VALUE."))
+        "speed 3-12 m/s, tilt 5-45 deg, attack 0-30 deg, spin 0-20 rev/s) or held with --NAME VALUE. "
+        "The simulation flags are jaxskip throw's."))
     for name, meta, text, (lo, hi) in RANGES:
         g = o.add_mutually_exclusive_group()
-        g.add_argument(f"--{name}-range", nargs=2, type=number(f"--{name}-range"), metavar=("LOW", "HIGH"),
+        g.add_argument(f"--{name}-range", nargs=2, type=_float(f"--{name}-range"), metavar=("LOW", "HIGH"),
                        help=f"search {text} in [LOW, HIGH] (default {lo:g} {hi:g})")
-        g.add_argument(f"--{name}", type=number(f"--{name}"), metavar=meta, help=f"hold {text} at this value")
-    o.add_argument("--method", choices=("gradient", "perturbation", "grid", "random"), default="gradient",
+        g.add_argument(f"--{name}", type=_float(f"--{name}"), metavar=meta, help=f"hold {text} at this value")
+    o.add_argument("--method", choices=METHODS, default=GRADIENT,
                    help="gradient (optax on the smooth count, default), perturbation (randomised smoothing), "
                         "grid or random (exhaustive baselines)")
-    o.add_argument("--objective", choices=("bounces", "distance"), default="bounces",
-                   help="what the gradient search ascends (default bounces: the smooth count)")
-    o.add_argument("--starts", type=int, default=8, metavar="N", help="random starts (default 8)")
-    o.add_argument("--iterations", type=int, default=20, metavar="N", help="optimiser steps (default 20)")
-    o.add_argument("--learning-rate", type=number("--learning-rate"), default=0.3, metavar="LR",
-                   help="Adam step in the unconstrained coordinates (default 0.3)")
-    o.add_argument("--polish", type=int, default=256, metavar="N",
-                   help="(gradient, perturbation) exact throws sampled near the best throws found, after the "
-                        "ascent (default 256; 0: none). The free stone's count is chaotic: sampling near the "
-                        "ascent's best finds more than the ascent (21 -> 51 bounces in the default search)")
-    o.add_argument("--samples", type=int, default=8, metavar="N",
-                   help="(perturbation) antithetic pairs of exact throws per start and iteration (default 8)")
-    o.add_argument("--horizon", type=int, default=None, metavar="STEPS",
-                   help="(gradient) steps the surrogate is differentiated through (default: the whole rollout)")
-    o.add_argument("--per-axis", type=int, default=6, metavar="N", help="grid points per searched parameter (grid)")
-    o.add_argument("--throws", type=int, default=1000, metavar="N", help="random throws (random)")
-    o.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
-    _common(o)
+    _only(o, METHOD_FLAGS, "--objective", "what the gradient search ascends (default bounces: the smooth count)",
+          choices=("bounces", "distance"))
+    _only(o, METHOD_FLAGS, "--starts", "random starts (default 8)", type=int, metavar="N")
+    _only(o, METHOD_FLAGS, "--iterations", "optimiser steps (default 20)", type=int, metavar="N")
+    _only(o, METHOD_FLAGS, "--learning-rate", "Adam step in the unconstrained coordinates (default 0.3)",
+          type=_float("--learning-rate"), metavar="LR")
+    _only(o, METHOD_FLAGS, "--polish", f"exact throws sampled near the best throws found, after the ascent "
+          f"(default {METHOD_DEFAULTS['polish']}; 0: none). The free stone's count is chaotic: sampling near the "
+          "ascent's best finds more than the ascent (21 -> 51 bounces in the default search)", type=int, metavar="N")
+    _only(o, METHOD_FLAGS, "--samples", "antithetic pairs of exact throws per start and iteration (default 8)",
+          type=int, metavar="N")
+    _only(o, METHOD_FLAGS, "--horizon", "steps the surrogate is differentiated through (default: the whole rollout)",
+          type=int, metavar="STEPS")
+    _only(o, METHOD_FLAGS, "--per-axis", f"grid points per searched parameter (default {METHOD_DEFAULTS['per_axis']})",
+          type=int, metavar="N")
+    _only(o, METHOD_FLAGS, "--throws", "random throws (default 1000)", type=int, metavar="N")
+    _only(o, METHOD_FLAGS, "--seed", "random seed, >= 0 (default 0)", type=int)
+    add_common(o)
 
     s = sub.add_parser("sweep", help="magic-angle sweeps: U_min(tilt) or the bounce domain", description=(
-        "umin: the minimal speed for a bounce at each tilt (batched bisection); domain: bounce counts on a "
-        "tilt x attack grid at one speed; merge FOLDER...: join the folders of several shards. Defaults: "
-        "Clanet's aluminium disk, tilt held (high-spin limit), 65 rev/s, attack 20 deg (physics.md section 4)."))
-    s.add_argument("kind", choices=("umin", "domain", "merge"))
+        "umin: the minimal speed for a bounce at each tilt (bisection, the tilts of a chunk batched); domain: bounce counts on a "
+        "tilt x attack grid at one speed; merge FOLDER... --out DIR: join the folders of several shards (it "
+        "takes no other flag but --json and --plot). Defaults: Clanet's aluminium disk, tilt held (high-spin "
+        "limit), 65 rev/s, attack 20 deg (physics.md section 4). The work is cut into chunks (default: about 8; "
+        "a domain chunk holds at least 256 grid points), each written to --out as it finishes: re-running resumes "
+        "there, and --shard-index/--num-shards split the chunks between machines."))
+    s.add_argument("kind", choices=KINDS + ("merge",))
     s.add_argument("folders", nargs="*", metavar="FOLDER", help="(merge) the shards' --out folders")
-    s.add_argument("--tilts", default="5:60:12", metavar="A:B:N|A,B,...",
-                   help="tilts [deg]: N values from A to B, or a list (default 5:60:12)")
-    s.add_argument("--attacks", default=None, metavar="A:B:N|A,B,...",
-                   help="attack angles [deg] (default 20 for umin, 0:60:13 for domain)")
-    s.add_argument("--speed", type=number("--speed"), default=3.5, metavar="M/S", help="(domain) speed (default 3.5)")
-    s.add_argument("--speed-range", nargs=2, type=number("--speed-range"), default=(0.5, 8.0),
-                   metavar=("LOW", "HIGH"), help="(umin) bisection bracket [m/s] (default 0.5 8)")
-    s.add_argument("--iterations", type=int, default=10, metavar="N", help="(umin) bisection steps (default 10)")
-    s.add_argument("--spin", type=number("--spin"), default=65.0, metavar="REV/S", help="spin (default 65)")
-    s.add_argument("--out", metavar="DIR", default=None,
-                   help="folder for chunk files and result.json/result.csv; re-running resumes there")
-    s.add_argument("--chunk-size", type=int, default=None, metavar="N", help="work items per chunk file")
-    s.add_argument("--shard-index", type=int, default=0, metavar="I", help="this machine's shard (default 0)")
-    s.add_argument("--num-shards", type=int, default=1, metavar="N", help="machines sharing the sweep (default 1)")
-    _common(s, stone="clanet", attitude="fixed")
+    _only(s, SWEEP_FLAGS, "--tilts", "tilts [deg]: N values from A to B, or a list (default 5:60:12)",
+          metavar="A:B:N|A,B,...")
+    _only(s, SWEEP_FLAGS, "--attacks", "attack angles [deg] (default 20 for umin, 0:60:13 for domain)",
+          metavar="A:B:N|A,B,...")
+    _only(s, SWEEP_FLAGS, "--speed", "speed [m/s] (default 3.5)", type=_float("--speed"), metavar="M/S")
+    _only(s, SWEEP_FLAGS, "--speed-range", "bisection bracket [m/s] (default 0.5 8)", nargs=2,
+          type=_float("--speed-range"), metavar=("LOW", "HIGH"))
+    _only(s, SWEEP_FLAGS, "--iterations", "bisection steps (default 10)", type=int, metavar="N")
+    _only(s, SWEEP_FLAGS, "--spin", "spin [rev/s], in [-500, 500] (default 65)", type=_float("--spin"),
+          metavar="REV/S")
+    s.add_argument("--out", metavar="DIR", help="folder (its parent must exist) for chunk files and "
+                   "result.json/result.csv; re-running resumes there")
+    _only(s, SWEEP_FLAGS, "--chunk-size", "work items per chunk file: tilts (umin) or grid points (domain) "
+          "(default: ceil(items / 8), at least 256 grid points for domain)", type=int, metavar="N")
+    _only(s, SWEEP_FLAGS, "--shard-index", "this machine's shard (default 0; needs --out)", type=int, metavar="I")
+    _only(s, SWEEP_FLAGS, "--num-shards", "machines sharing the sweep (default 1; needs --out)", type=int,
+          metavar="N")
+    add_common(s, stone="clanet", attitude="fixed")
 
 
-def _common(p, stone="paper", attitude="free"):
-    p.add_argument("--stone", default=stone, metavar="NAME|PATH.obj", help=f"stone (default {stone})")
-    p.add_argument("--attitude", choices=("free", "fixed"), default=attitude,
-                   help=f"6-DoF (free) or tilt held (fixed) (default {attitude})")
-    p.add_argument("--json", action="store_true", help="print one JSON object on stdout")
-    p.add_argument("--plot", metavar="PATH", default=None, help="write a picture (PNG/PDF/SVG)")
+def flag_names(args) -> dict:
+    """Library parameter names -> this command's flags, where they differ from ``--NAME``."""
+    if args.command == "optimize":  # a box parameter is --NAME when held, --NAME-range when searched
+        return {name: f"--{name}-range" for name, *_ in RANGES if getattr(args, name) is None}
+    return {"tilt": "--tilts", "attack": "--attacks", "out_dir": "--out"}
 
 
-def _check_plot(path):
-    if path is not None and not str(path).lower().endswith((".png", ".pdf", ".svg")):
-        raise ParameterError(f"--plot must end in .png, .pdf or .svg, got {path!r}")
+def _check_used(args, label: str, choice: str, table: dict) -> None:
+    for dest, users in table.items():
+        if getattr(args, dest, None) is not None and choice not in users:
+            raise ParameterError(f"--{dest.replace('_', '-')} is not used by {label} (only by {', '.join(users)})")
 
 
 def _values(text: str, name: str) -> list:
@@ -101,18 +129,16 @@ def _values(text: str, name: str) -> list:
 
 
 def run_optimize(args) -> int:
-    import dataclasses
-
+    _check_used(args, f"--method {args.method}", args.method, METHOD_FLAGS)
+    check_output("--plot", args.plot, PICTURES)
+    if args.seed is not None:
+        check_int("seed", args.seed, minimum=0)
     import jax
 
     jax.config.update("jax_enable_x64", True)
-    from optimize import (EXPLODING, VANISHING, gradient_health, gradient_search, grid_search, make_box, perturbation_search,
-                          plot_search, random_search)
+    from optimize import (EXPLODING, VANISHING, gradient_health, gradient_search, grid_search, make_box,
+                          perturbation_search, plot_search, random_search)
 
-    from . import SimConfig
-    from .api import resolve_stone
-
-    _check_plot(args.plot)
     searched, held = {}, {}
     for name, _, _, default in RANGES:
         value, rng = getattr(args, name), getattr(args, f"{name}_range")
@@ -121,22 +147,17 @@ def run_optimize(args) -> int:
         else:
             searched[name] = default if rng is None else tuple(rng)
     box = make_box(searched, held)
-    resolve_stone(args.stone)  # validate before compiling
-    config = SimConfig(attitude=args.attitude)
+    values = sim_values(args)
+    config, water, rigid = simulation(**values)  # validated before compiling
+    given = {d: METHOD_DEFAULTS.get(d) if getattr(args, d) is None else getattr(args, d)
+             for d, users in METHOD_FLAGS.items() if args.method in users}
+    search = {GRADIENT: gradient_search, PERTURBATION: perturbation_search, GRID: grid_search,
+              RANDOM: random_search}[args.method]
     progress = sys.stderr.isatty() and not args.json
-    if args.method == "gradient":
-        r = gradient_search(box, objective=args.objective, stone=args.stone, config=config, starts=args.starts,
-                            iterations=args.iterations, learning_rate=args.learning_rate, seed=args.seed,
-                            polish=args.polish, horizon=args.horizon, progress=progress)
-    elif args.method == "perturbation":
-        r = perturbation_search(box, stone=args.stone, config=config, starts=args.starts,
-                                iterations=args.iterations, learning_rate=args.learning_rate, seed=args.seed,
-                                samples=args.samples, polish=args.polish, progress=progress)
-    elif args.method == "grid":
-        r = grid_search(box, per_axis=args.per_axis, stone=args.stone, config=config, progress=progress)
-    else:
-        r = random_search(box, throws=args.throws, stone=args.stone, config=config, seed=args.seed,
-                          progress=progress)
+    if progress and args.method == GRADIENT:
+        print("compiling the gradient (once) ...", file=sys.stderr, flush=True)
+    r = search(box, stone=rigid, config=config, water=water, progress=progress,
+               **{d: v for d, v in given.items() if v is not None})
     if args.plot:
         plot_search(r, args.plot)
     health = gradient_health(r)
@@ -144,11 +165,10 @@ def run_optimize(args) -> int:
         out = r.to_dict()
         if health is not None:
             out["gradient_norms"] = health
-        out["config"] = {"stone": args.stone, "attitude": args.attitude, **{
-            k: v for k, v in dataclasses.asdict(config).items() if k in ("dt", "max_steps", "duration")}}
+        out["config"] = describe(values["stone"], config, water, rigid)
         if args.plot:
             out["plot"] = str(args.plot)
-        print(json.dumps(out, allow_nan=False))
+        print_json(out)
     else:
         b = r.best
         print(f"{r.method} search: best {r.best_bounces} bounces at speed {b['speed']:.2f} m/s, tilt "
@@ -176,40 +196,46 @@ def run_optimize(args) -> int:
 
 
 def run_sweep_command(args) -> int:
+    _check_used(args, f"sweep {args.kind}", args.kind, SWEEP_FLAGS)
+    check_output("--plot", args.plot, PICTURES)
+    check_output("--out", args.out)
+    if args.kind == "merge":
+        if not args.folders or args.out is None:
+            raise ParameterError("sweep merge needs the shards' folders and --out DIR")
+    else:
+        if args.folders:
+            raise ParameterError(f"sweep {args.kind} takes no folders (did you mean --out?)")
+        if args.out is None and (args.shard_index, args.num_shards) != (None, None):
+            raise ParameterError("--shard-index/--num-shards need --out DIR: a shard's chunks are kept there "
+                                 "for `jaxskip sweep merge`")
+        tilts = _values(args.tilts or "5:60:12", "--tilts")
+        attacks = _values(args.attacks or ("20" if args.kind == "umin" else "0:60:13"), "--attacks")
     import jax
 
     jax.config.update("jax_enable_x64", True)
     from optimize import make_spec, merge, plot_sweep, run_sweep
 
-    from .api import resolve_stone
-
-    _check_plot(args.plot)
     if args.kind == "merge":
-        if not args.folders or args.out is None:
-            raise ParameterError("sweep merge needs the shards' folders and --out DIR")
         result = merge(args.folders, args.out)
     else:
-        if args.folders:
-            raise ParameterError(f"sweep {args.kind} takes no folders (did you mean --out?)")
-        tilts = _values(args.tilts, "--tilts")
-        default_attacks = "20" if args.kind == "umin" else "0:60:13"
-        attacks = _values(args.attacks or default_attacks, "--attacks")
-        spec = make_spec(args.kind, tilts=tilts, attacks=attacks, speed=args.speed,
-                         speed_range=tuple(args.speed_range), iterations=args.iterations, spin=args.spin,
-                         stone=args.stone, attitude=args.attitude, chunk_size=args.chunk_size)
-        resolve_stone(args.stone)
+        given = {d: getattr(args, d) for d in SWEEP_FLAGS
+                 if d not in ("tilts", "attacks", "shard_index", "num_shards") and getattr(args, d) is not None}
+        spec = make_spec(args.kind, tilts=tilts, attacks=attacks, **given)  # everything validated here
         progress = sys.stderr.isatty() and not args.json
-        result = run_sweep(spec, args.out, shard_index=args.shard_index, num_shards=args.num_shards,
-                           progress=progress)
+        shard, shards = args.shard_index or 0, args.num_shards or 1
+        result = run_sweep(spec, args.out, shard_index=shard, num_shards=shards, progress=progress)
         if result is None:
-            msg = (f"shard {args.shard_index}/{args.num_shards} done; chunks in {args.out}; join the shards with "
+            msg = (f"shard {shard}/{shards} done; chunks in {args.out}; join the shards with "
                    "`jaxskip sweep merge FOLDER... --out DIR`")
-            print(json.dumps({"complete": False, "out": args.out}) if args.json else msg)
+            if args.json:
+                print_json({"complete": False, "out": args.out})
+            else:
+                print(msg)
             return 0
     if args.plot:
         plot_sweep(result, args.plot)
     if args.json:
-        print(json.dumps({"complete": True, **result, **({"plot": args.plot} if args.plot else {})}, allow_nan=False))
+        print_json({"complete": True, **result, **({"plot": args.plot} if args.plot else {})})
         return 0
     spec = result["spec"]
     if spec["kind"] == "umin":
@@ -235,4 +261,4 @@ def run_sweep_command(args) -> int:
     return 0
 
 
-__all__ = ["add_parsers", "run_optimize", "run_sweep_command"]
+__all__ = ["add_parsers", "flag_names", "run_optimize", "run_sweep_command"]

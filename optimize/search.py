@@ -41,7 +41,7 @@ import jax.numpy as jnp
 import numpy as np
 import optax
 
-from jaxskip import SimConfig, simulate_batch, water_params
+from jaxskip import SimConfig, WaterParams, simulate_batch, water_params
 from jaxskip._arrays import float_array
 from jaxskip._checks import ParameterError, check_int, check_positive, check_range
 from jaxskip.api import resolve_stone
@@ -133,11 +133,11 @@ def _full(box: Box, values: dict) -> dict:
 
 
 def _exact(box: Box, values: dict, stone, config: SimConfig, lanes: int | None = None,
-           progress: bool = False) -> tuple[np.ndarray, np.ndarray]:
+           progress: bool = False, water=None) -> tuple[np.ndarray, np.ndarray]:
     """Exact bounce counts and distances [m] of the throws ``values`` (user units), lane-pooled
-    (:func:`simulate_batch`)."""
+    (:func:`simulate_batch`; ``water`` None: the force law's constants)."""
     throws = box.throws_from_user(values)
-    r = simulate_batch(throws, stone, config=dataclasses.replace(config, record=False), lanes=lanes,
+    r = simulate_batch(throws, stone, water=water, config=dataclasses.replace(config, record=False), lanes=lanes,
                        progress=progress)
     return r.bounces, r.distance
 
@@ -178,7 +178,8 @@ def gradient_search(box: Box | None = None, *, objective: str = "bounces", stone
                     config: SimConfig | None = None, starts: int = 8, iterations: int = 20,
                     learning_rate: float = 0.3, clip: float = 1.0, width: float = WIDTH, seed: int = 0,
                     initial: dict | None = None, polish: int = 0, polish_scale: float = 0.03,
-                    horizon: int | None = None, progress: bool = False) -> SearchResult:
+                    horizon: int | None = None, water: WaterParams | None = None,
+                    progress: bool = False) -> SearchResult:
     """Multi-start gradient ascent on a smooth objective; returns the best true bounce count found.
 
     ``box`` (default: the human box of :data:`optimize.bounds.HUMAN_BOX`), ``objective``
@@ -202,6 +203,7 @@ def gradient_search(box: Box | None = None, *, objective: str = "bounces", stone
     backpropagation: cheaper gradients (4 against 15 ms, measured) that see only the first
     bounces, over fewer e-foldings of the rollout's chaos (its gradients' tail still reaches
     ~1e5 at 1200 steps); true counts always use the whole rollout.
+    ``water``: the water's constants (:func:`jaxskip.water_params`; default: the force law's).
     """
     t0 = time.perf_counter()
     box = make_box() if box is None else box
@@ -215,7 +217,7 @@ def gradient_search(box: Box | None = None, *, objective: str = "bounces", stone
     check_positive("clip", clip)
     check_positive("width", width, unit="m")
     rigid, _ = resolve_stone(stone)
-    water = water_params(config.force.law)
+    water = water_params(config.force.law) if water is None else water
     if horizon is not None:
         horizon = check_int("horizon", horizon, minimum=1, maximum=config.max_steps)
     f = make_objective(objective, config if horizon is None else dataclasses.replace(config, max_steps=horizon),
@@ -253,7 +255,7 @@ def gradient_search(box: Box | None = None, *, objective: str = "bounces", stone
     history, best, forward = [], _Best(box, objective), 0
     for it in range(iterations + 1):
         values = box.to_user(np.asarray(u))
-        counts, dists = _exact(box, values, rigid, config)
+        counts, dists = _exact(box, values, rigid, config, water=water)
         forward += starts
         best.update(values, counts, dists)
         points = {k: np.asarray(v, dtype=float).tolist() for k, v in values.items()}
@@ -280,19 +282,19 @@ def gradient_search(box: Box | None = None, *, objective: str = "bounces", stone
     if progress:
         print(file=sys.stderr)
     if polish:
-        forward += _polish(box, history, min(4, starts), polish, polish_scale, rigid, config, seed, progress, best,
-                           iterations + 1)
+        forward += _polish(box, history, min(4, starts), polish, polish_scale, rigid, config, water, seed, progress,
+                           best, iterations + 1)
     return SearchResult("gradient", best.throw, best.bounces, history, box, time.perf_counter() - t0, forward,
                         starts * iterations, t_grad, t_compile, best.distance, objective)
 
 
-def _polish(box, visited, k, throws, scale, rigid, config, seed, progress, best: _Best, iteration) -> int:
+def _polish(box, visited, k, throws, scale, rigid, config, water, seed, progress, best: _Best, iteration) -> int:
     """:func:`local_search` of ``throws`` exact throws around the ``k`` best distinct throws in
     ``visited`` (entries with ``"points"`` and ``"bounces"``, or ``"distance"`` when ``best`` ranks by
     distance); updates ``best``, appends the polish's history entry (``"phase": "polish"``) to
     ``visited`` and returns the throws it simulated."""
     local = local_search(box, top_throws(visited, k, best.objective), throws=throws, scale=scale, stone=rigid,
-                         config=config, seed=seed, objective=best.objective, progress=progress)
+                         config=config, water=water, seed=seed, objective=best.objective, progress=progress)
     entry = local.history[0]
     best.update(entry["points"], entry["bounces"], entry["distance"])
     if best.objective == "bounces":
@@ -330,7 +332,7 @@ def top_throws(history: list, k: int, objective: str = "bounces") -> dict:
 
 def local_search(box: Box, centres: dict, *, throws: int = 256, scale: float = 0.03, stone="paper",
                  config: SimConfig | None = None, lanes: int | None = None, seed: int = 0,
-                 objective: str = "bounces", progress: bool = False) -> SearchResult:
+                 objective: str = "bounces", water: WaterParams | None = None, progress: bool = False) -> SearchResult:
     """Exact counts of ``throws`` random throws near ``centres`` (the best one wins: the most bounces,
     or with ``objective="distance"`` the longest distance).
 
@@ -367,7 +369,7 @@ def local_search(box: Box, centres: dict, *, throws: int = 256, scale: float = 0
         c = np.atleast_1d(np.asarray(centres[name], dtype=float))[pick]
         values[name] = np.clip(c + scale * (hi - lo) * rng.standard_normal(n), lo, hi)
     rigid, _ = resolve_stone(stone)
-    counts, dists = _exact(box, values, rigid, config, lanes, progress)
+    counts, dists = _exact(box, values, rigid, config, lanes, progress, water)
     best = _Best(box, objective)
     best.update(values, counts, dists)
     hist = [{"iteration": 0, "phase": "polish", "bounces": counts.tolist(), "distance": dists.tolist(),
@@ -396,7 +398,7 @@ def _ascend(opt, g, state, u):
 def perturbation_search(box: Box | None = None, *, stone="paper", config: SimConfig | None = None,
                         starts: int = 8, iterations: int = 20, samples: int = 8, sigma: float = 0.3,
                         learning_rate: float = 0.3, seed: int = 0, polish: int = 0, polish_scale: float = 0.03,
-                        progress: bool = False) -> SearchResult:
+                        water: WaterParams | None = None, progress: bool = False) -> SearchResult:
     r"""Randomised smoothing: ascend :math:`E[N(u + \sigma\epsilon)]` with antithetic estimates.
 
     The gradient of the smoothed exact count at ``u`` (unconstrained coordinates) is
@@ -406,7 +408,8 @@ def perturbation_search(box: Box | None = None, *, stone="paper", config: SimCon
     benchmarks/README.md) does not reach the estimate: it is the estimator a chaotic count calls
     for. ``polish``/``polish_scale`` as in :func:`gradient_search`: exact throws near the best
     (up to 4) distinct throws evaluated, centres and samples alike. Every history entry lists the
-    centres it simulated under ``"points"`` (their counts under ``"bounces"``).
+    centres it simulated under ``"points"`` (their counts under ``"bounces"``). ``water`` as in
+    :func:`gradient_search`.
     """
     t0 = time.perf_counter()
     box = make_box() if box is None else box
@@ -430,7 +433,7 @@ def perturbation_search(box: Box | None = None, *, stone="paper", config: SimCon
         eps = rng.standard_normal((starts, samples, p))
         pts = np.concatenate([u[:, None, :] + sigma * eps, u[:, None, :] - sigma * eps, u[:, None, :]], axis=1)
         values = box.to_user(pts.reshape(-1, p))
-        counts, dists = _exact(box, values, rigid, config)
+        counts, dists = _exact(box, values, rigid, config, water=water)
         counts = counts.reshape(starts, 2 * samples + 1)
         forward += counts.size
         best.update(values, counts, dists)
@@ -448,8 +451,8 @@ def perturbation_search(box: Box | None = None, *, stone="paper", config: SimCon
     if progress:
         print(file=sys.stderr)
     if polish:
-        forward += _polish(box, visited, min(4, starts), polish, polish_scale, rigid, config, seed, progress, best,
-                           iterations)
+        forward += _polish(box, visited, min(4, starts), polish, polish_scale, rigid, config, water, seed, progress,
+                           best, iterations)
         history.append(visited[-1])
     return SearchResult("perturbation", best.throw, best.bounces, history, box, time.perf_counter() - t0, forward, 0,
                         best_distance=best.distance)
@@ -463,10 +466,10 @@ def grid_points(box: Box, per_axis: int) -> dict:
     return {name: m.ravel() for (name, _, _), m in zip(box.searched, mesh)}
 
 
-def _exhaustive(method: str, box: Box, values: dict, stone, config: SimConfig, lanes: int, progress: bool):
+def _exhaustive(method: str, box: Box, values: dict, stone, config: SimConfig, lanes: int, progress: bool, water):
     t0 = time.perf_counter()
     rigid, _ = resolve_stone(stone)
-    counts, dists = _exact(box, values, rigid, config, lanes, progress)
+    counts, dists = _exact(box, values, rigid, config, lanes, progress, water)
     best = _Best(box, "bounces")
     best.update(values, counts, dists)
     hist = [{"iteration": 0, "bounces": [best.bounces], "objective": None, "best": best.bounces,
@@ -476,21 +479,24 @@ def _exhaustive(method: str, box: Box, values: dict, stone, config: SimConfig, l
 
 
 def grid_search(box: Box | None = None, *, per_axis: int = 10, stone="paper", config: SimConfig | None = None,
-                lanes: int | None = None, progress: bool = False) -> SearchResult:
-    """Exhaustive search: every point of a regular grid simulated exactly (``per_axis`` ** P throws)."""
+                lanes: int | None = None, water: WaterParams | None = None, progress: bool = False) -> SearchResult:
+    """Exhaustive search: every point of a regular grid simulated exactly (``per_axis`` ** P throws);
+    ``water`` as in :func:`gradient_search`."""
     box = make_box() if box is None else box
     config = SimConfig() if config is None else config
-    return _exhaustive("grid", box, grid_points(box, per_axis), stone, config, lanes, progress)
+    return _exhaustive("grid", box, grid_points(box, per_axis), stone, config, lanes, progress, water)
 
 
 def random_search(box: Box | None = None, *, throws: int = 1000, stone="paper", config: SimConfig | None = None,
-                  lanes: int | None = None, seed: int = 0, progress: bool = False) -> SearchResult:
-    """Random search: ``throws`` uniform random points of the box simulated exactly."""
+                  lanes: int | None = None, seed: int = 0, water: WaterParams | None = None,
+                  progress: bool = False) -> SearchResult:
+    """Random search: ``throws`` uniform random points of the box simulated exactly; ``water`` as in
+    :func:`gradient_search`."""
     box = make_box() if box is None else box
     config = SimConfig() if config is None else config
     n = check_int("throws", throws, minimum=1, maximum=100_000_000)
     return _exhaustive("random", box, _random_points(box, n, np.random.default_rng(seed)), stone, config, lanes,
-                       progress)
+                       progress, water)
 
 
 def plot_search(result: SearchResult, path) -> None:

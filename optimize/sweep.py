@@ -10,7 +10,7 @@ their reference spin, impact angle :math:`\beta = 20°` and speed 3.5 m/s.
 
 * :func:`bounce_domain` — bounce counts on a (tilt, attack) grid at one speed.
 * :func:`minimal_speed` — :math:`U_{min}(\alpha)` by batched bisection: every
-  tilt of the sweep is bisected at once (one :func:`jaxskip.simulate_batch`
+  tilt of a chunk is bisected at once (one :func:`jaxskip.simulate_batch`
   call per iteration), assuming that a throw that bounces still bounces when
   faster (true of the fixed-attitude model over the range swept; checked by the
   result's ``bounces_at_high``). The answer is bracketed to
@@ -19,14 +19,17 @@ their reference spin, impact angle :math:`\beta = 20°` and speed 3.5 m/s.
   of the parabola through the lowest :math:`U_{min}` and its two neighbours
   (``best_tilt_fit``, ``best_umin_fit`` in a U_min sweep's result).
 
-Scale: the work is cut into chunks; each finished chunk is written atomically
-(temporary file + ``os.replace``) to ``out_dir/chunk-NNNNN.json`` and a re-run
-loads it instead of computing it again, so an interrupted sweep resumes where
-it stopped and gives the same file as an uninterrupted one. With
+Scale: the work is cut into chunks (by default about :data:`CHUNKS` of them,
+:func:`default_chunk_size`; chunking does not change the numbers); each finished chunk is written atomically (temporary
+file + ``os.replace``) to ``out_dir/chunk-NNNNN.json`` and a re-run loads it
+instead of computing it again, so an interrupted sweep resumes where it stopped
+and gives the same file as an uninterrupted one. With
 ``num_shards > 1`` a machine computes only the chunks ``j`` with
 ``j % num_shards == shard_index``; :func:`merge` joins the chunk folders of all
 machines. Every local JAX device is used (the lanes of
-:func:`jaxskip.simulate_batch` are sharded over them).
+:func:`jaxskip.simulate_batch` are sharded over them). ``out_dir/spec.json`` pins the
+sweep a folder holds, its resolved simulation configuration included: a re-run with other
+settings there is refused.
 """
 
 from __future__ import annotations
@@ -42,13 +45,28 @@ from pathlib import Path
 
 import numpy as np
 
-from jaxskip import SimConfig, Throw, simulate_batch
-from jaxskip._checks import ParameterError, check_int, check_positive, check_range
+from jaxskip import Throw, simulate_batch
+from jaxskip._checks import ParameterError, check_int
+from jaxskip.settings import SIM_DEFAULTS, describe, simulation
+from jaxskip.throw import MAX_SPEED
 
 from .bounds import check_interval
 
 #: Clanet et al.'s reference throw (physics.md §4).
 REFERENCE = {"speed": 3.5, "spin": 65.0, "tilt": 20.0, "attack": 20.0}
+#: A sweep is cut into about this many chunks by default (fewer if it is small): enough to resume
+#: and to shard, few enough to keep each chunk's batch wide (one chunk per tilt made a 12-tilt
+#: U_min sweep 2x slower, measured).
+CHUNKS = 8
+#: A bounce-domain sweep's smallest default chunk [grid points]: smaller domains are one chunk.
+DOMAIN_CHUNK = 256
+
+
+def default_chunk_size(kind: str, items: int) -> int:
+    """Work items per chunk when none is given: ``ceil(items / CHUNKS)`` tilts (umin), or as many grid
+    points but at least :data:`DOMAIN_CHUNK` (domain)."""
+    size = -(-items // CHUNKS)
+    return size if kind == "umin" else max(size, DOMAIN_CHUNK)
 
 
 @dataclasses.dataclass(frozen=True)
@@ -75,6 +93,29 @@ class SweepSpec:
     """``"fixed"`` (tilt held: Clanet's high-spin limit) or ``"free"``."""
     chunk_size: int
     """Work items per chunk file (throws for ``domain``, tilts for ``umin``)."""
+    mass: float | None
+    """Stone mass [kg] as given (None: from the density)."""
+    density: float | None
+    """Stone density [kg/m^3] as given (None: the stone's own)."""
+    force_law: str
+    """``"bocquet"`` or ``"seed"``."""
+    c_lift: float | None
+    """Lift coefficient as given (None: the law's)."""
+    c_friction: float | None
+    """Friction coefficient as given (None: the law's)."""
+    velocity: str
+    """``"body"`` or ``"local"`` (:class:`jaxskip.ForceModel`)."""
+    integrator: str
+    """``"euler"`` or ``"rk4"``."""
+    dt: float
+    """Time step in contact [s]."""
+    duration: float
+    """Simulated time limit [s]."""
+    max_steps: int
+    """Step budget per throw (resolved)."""
+    config: dict
+    """The resolved simulation configuration (:func:`jaxskip.settings.describe`: the stone's mass, the law's
+    coefficients, ...), as ``jaxskip optimize --json`` reports it."""
 
     def to_dict(self) -> dict:
         return {k: (list(v) if isinstance(v, tuple) else v) for k, v in dataclasses.asdict(self).items()}
@@ -82,54 +123,77 @@ class SweepSpec:
 
 def make_spec(kind: str, *, tilts, attacks=(REFERENCE["attack"],), speed: float = REFERENCE["speed"],
               speed_range=(0.5, 8.0), iterations: int = 10, spin: float = REFERENCE["spin"],
-              stone: str = "clanet", attitude: str = "fixed", chunk_size: int | None = None) -> SweepSpec:
-    """Validate a sweep's parameters (user units) before anything is compiled."""
+              stone: str = "clanet", attitude: str = "fixed", chunk_size: int | None = None, **sim) -> SweepSpec:
+    """Validate a sweep's parameters (user units) before anything is compiled or written.
+
+    Every throw of the sweep must lie within :meth:`jaxskip.Throw.from_degrees`' limits (speed in
+    (0, 100] m/s, spin in [-500, 500] rev/s, ...). ``sim``: the other simulation settings of
+    ``jaxskip throw``, named and defaulted as :data:`jaxskip.settings.SIM_DEFAULTS` (``mass``, ``density``,
+    ``force_law``, ``c_lift``, ``c_friction``, ``velocity``, ``integrator``, ``dt``, ``duration``,
+    ``max_steps``); the stone is loaded here and the resolved configuration kept in the spec's
+    ``config``. ``chunk_size``: work items per chunk file, tilts (umin) or grid points (domain);
+    default :func:`default_chunk_size` (about :data:`CHUNKS` chunks), so that a default sweep resumes
+    and shards.
+    """
     if kind not in ("domain", "umin"):
         raise ParameterError(f"kind must be 'domain' or 'umin', got {kind!r}")
-    tilts = tuple(float(check_range("tilt", t, -90.0, 90.0, unit="deg", low_open=True, high_open=True))
-                  for t in np.atleast_1d(np.asarray(tilts, dtype=float)))
-    attacks = tuple(float(check_range("attack", a, -90.0, 90.0, unit="deg")) for a in
-                    np.atleast_1d(np.asarray(attacks, dtype=float)))
+    unknown = set(sim) - set(SIM_DEFAULTS)
+    if unknown:
+        raise TypeError(f"make_spec() got unexpected keyword arguments: {', '.join(sorted(unknown))}")
+    tilts = tuple(float(t) for t in np.atleast_1d(np.asarray(tilts, dtype=float)))
+    attacks = tuple(float(a) for a in np.atleast_1d(np.asarray(attacks, dtype=float)))
     if not tilts or not attacks:
         raise ParameterError("a sweep needs at least one tilt and one attack angle")
     if kind == "umin" and len(attacks) != 1:
         raise ParameterError(f"a umin sweep takes one attack angle, got {len(attacks)}")
-    speed = float(check_positive("speed", speed, unit="m/s"))
-    lo, hi = check_interval("speed_range", speed_range, 0.0, 100.0, unit="m/s")
+    lo, hi = check_interval("speed_range", speed_range, 0.0, MAX_SPEED, unit="m/s")
     if lo <= 0.0:
         raise ParameterError(f"speed_range must start above 0 m/s, got {lo}")
     iterations = check_int("iterations", iterations, minimum=1, maximum=40)
-    spin = float(check_range("spin", spin, 0.0, 1000.0, unit="rev/s"))
-    if attitude not in ("fixed", "free"):
-        raise ParameterError(f"attitude must be 'fixed' or 'free', got {attitude!r}")
-    items = len(tilts) * len(attacks) if kind == "domain" else len(tilts)
-    chunk_size = items if chunk_size is None else check_int("chunk_size", chunk_size, minimum=1)
-    return SweepSpec(kind, tilts, attacks, speed, (lo, hi), iterations, spin, str(stone), attitude, chunk_size)
+    # every speed, tilt, attack and spin the sweep throws, checked as the throw checks them
+    Throw.from_degrees(speed=np.array([speed, lo, hi], dtype=float)[:, None, None], tilt=np.array(tilts)[:, None],
+                       attack=np.array(attacks), spin=spin)
+    sim = {**SIM_DEFAULTS, **sim, "stone": stone, "attitude": attitude}
+    config, water, rigid = simulation(**sim)
+    sim.update(stone=str(stone), max_steps=config.max_steps)
+    if chunk_size is None:
+        chunk_size = default_chunk_size(kind, len(tilts) if kind == "umin" else len(tilts) * len(attacks))
+    chunk_size = check_int("chunk_size", chunk_size, minimum=1)
+    return SweepSpec(kind=kind, tilts=tilts, attacks=attacks, speed=float(speed), speed_range=(lo, hi),
+                     iterations=iterations, spin=float(spin), chunk_size=chunk_size, **sim,
+                     config=describe(stone, config, water, rigid))
 
 
-def _config(spec: SweepSpec) -> SimConfig:
-    return SimConfig(record=False, attitude=spec.attitude)
+def _sim(spec: SweepSpec):
+    """``(SimConfig, WaterParams, RigidStone)`` of a sweep (no trajectories kept)."""
+    config, water, rigid = simulation(**{k: getattr(spec, k) for k in SIM_DEFAULTS})
+    return dataclasses.replace(config, record=False), water, rigid
 
 
-def _domain_chunk(spec: SweepSpec, index: np.ndarray, progress: bool) -> dict:
+def _batch(throws, sim, progress: bool):
+    config, water, rigid = sim
+    return simulate_batch(throws, rigid, water=water, config=config, progress=progress)
+
+
+def _domain_chunk(spec: SweepSpec, sim, index: np.ndarray, progress: bool) -> dict:
     tilt = np.asarray(spec.tilts)[index // len(spec.attacks)]
     attack = np.asarray(spec.attacks)[index % len(spec.attacks)]
     throws = Throw.from_degrees(speed=np.full(len(index), spec.speed), tilt=tilt, attack=attack, spin=spec.spin)
-    r = simulate_batch(throws, spec.stone, config=_config(spec), progress=progress)
+    r = _batch(throws, sim, progress)
     t_end = r.tracker.t_end[:, 0]
     t_start = r.tracker.t_start[:, 0]
     first = np.where(np.isfinite(t_end), t_end - t_start, np.nan)
     return {"bounces": r.bounces.tolist(), "first_contact_time": [_num(x) for x in first]}
 
 
-def _umin_chunk(spec: SweepSpec, index: np.ndarray, progress: bool) -> dict:
+def _umin_chunk(spec: SweepSpec, sim, index: np.ndarray, progress: bool) -> dict:
     tilt = np.asarray(spec.tilts)[index]
     lo = np.full(len(index), spec.speed_range[0])
     hi = np.full(len(index), spec.speed_range[1])
 
     def bounces(speed):
         throws = Throw.from_degrees(speed=speed, tilt=tilt, attack=spec.attacks[0], spin=spec.spin)
-        return simulate_batch(throws, spec.stone, config=_config(spec), progress=False).bounces
+        return _batch(throws, sim, False).bounces
 
     at_high = bounces(hi)
     at_low = bounces(lo)
@@ -185,6 +249,9 @@ def run_sweep(spec: SweepSpec, out_dir=None, *, shard_index: int = 0, num_shards
     """
     num_shards = check_int("num_shards", num_shards, minimum=1)
     shard_index = check_int("shard_index", shard_index, minimum=0, maximum=num_shards - 1)
+    if out_dir is None and num_shards > 1:
+        raise ParameterError("num_shards > 1 needs an out_dir: a shard's chunks are joined from the folders (merge)")
+    sim = _sim(spec)  # before anything is written
     out = None if out_dir is None else Path(out_dir)
     if out is not None:
         _check_spec_file(out, spec)
@@ -202,7 +269,7 @@ def run_sweep(spec: SweepSpec, out_dir=None, *, shard_index: int = 0, num_shards
         if progress:
             print(f"  chunk {j + 1}/{len(chunks)} ({len(index)} items)", file=sys.stderr, flush=True)
         work = _domain_chunk if spec.kind == "domain" else _umin_chunk
-        data = {"chunk": j, "items": index.tolist(), **work(spec, index, progress)}
+        data = {"chunk": j, "items": index.tolist(), **work(spec, sim, index, progress)}
         if path is not None:
             _write_atomic(path, json.dumps(data, sort_keys=True))
         results[j] = data
@@ -220,8 +287,10 @@ def _check_spec_file(out: Path, spec: SweepSpec) -> None:
     path = out / "spec.json"
     text = json.dumps(spec.to_dict(), sort_keys=True, indent=1)
     if path.exists():
-        if json.loads(path.read_text()) != json.loads(text):
-            raise ParameterError(f"out_dir {str(out)!r} holds a different sweep (see its spec.json); "
+        old, new = json.loads(path.read_text()), json.loads(text)
+        if old != new:
+            differ = ", ".join(sorted(k for k in old.keys() | new.keys() if old.get(k) != new.get(k)))
+            raise ParameterError(f"out_dir {str(out)!r} holds a different sweep (its spec.json differs in {differ}); "
                                  "use a new folder")
     else:
         _write_atomic(path, text)
@@ -332,8 +401,11 @@ def merge(folders, out_dir) -> dict:
         specs.append(json.loads((f / "spec.json").read_text()))
     if any(s != specs[0] for s in specs):
         raise ParameterError("the folders hold different sweeps (their spec.json differ)")
-    d = specs[0]
-    spec = SweepSpec(**{k: (tuple(v) if isinstance(v, list) else v) for k, v in d.items()})
+    try:
+        spec = SweepSpec(**{k: (tuple(v) if isinstance(v, list) else v) for k, v in specs[0].items()})
+    except TypeError:
+        raise ParameterError(f"{str(folders[0])!r} holds a sweep of an older jaxskip (its spec.json lacks the "
+                             "simulation configuration): run it again") from None
     n = len(_chunks(spec))
     found = {}
     for f in folders:

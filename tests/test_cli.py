@@ -7,6 +7,8 @@ import sys
 
 import pytest
 
+from jaxskip.cli import main
+
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
 
@@ -67,7 +69,10 @@ def test_obj_stone(tmp_path):
     (["--stone", "granite"], "granite"),
     (["--stone", "/no/such/stone.obj"], "stone.obj"),
     (["--force-law", "magic"], "force-law"),
-    (["--max-steps", "0"], "max_steps"),
+    (["--max-steps", "0"], "--max-steps must be an integer in [1, "),
+    (["--spin", "600"], "--spin must be finite and in [-500, 500] rev/s"),
+    (["--c-lift", "-1"], "--c-lift must be >= 0"),
+    (["--mass", "1", "--density", "2000"], "--density: not allowed with argument --mass"),
     (["--plot", "out.txt"], "--plot"),
 ])
 def test_bad_input_exits_2_without_traceback(args, needle):
@@ -109,3 +114,61 @@ def test_water_field_json_animation_and_picture(tmp_path):
 def test_water_flags_bad_input(args, needle):
     p = run("throw", *args)
     assert p.returncode == 2 and needle in p.stderr and "Traceback" not in p.stderr
+
+
+@pytest.mark.parametrize("args, needle", [
+    (["--plot", "/nonexistent/x.png"], "--plot '/nonexistent/x.png': the folder '/nonexistent' does not exist"),
+    (["--water", "field", "--water-plot", "/nonexistent/r.png"], "--water-plot"),
+    (["--water", "field", "--animate", "/nonexistent/a.gif"], "--animate"),
+    (["--plot", "{tmp}"], "is a folder"),
+])
+def test_unwritable_pictures_are_refused_before_simulating(args, needle, tmp_path, monkeypatch, capsys):
+    """A picture that cannot be written is refused before the throw is simulated (not after)."""
+    import jaxskip
+
+    monkeypatch.setattr(jaxskip, "simulate", lambda *a, **k: pytest.fail("simulated before refusing the path"))
+    (tmp_path / "d.png").mkdir()
+    args = [a.replace("{tmp}", str(tmp_path / "d.png")) for a in args]
+    assert main(["throw", *args]) == 2
+    err = capsys.readouterr().err
+    assert needle in err and err.count("\n") == 1
+
+
+def test_stone_that_is_a_directory(tmp_path, capsys):
+    (tmp_path / "rock.obj").mkdir()
+    assert main(["throw", "--stone", f"{tmp_path / 'rock.obj'}/"]) == 2
+    err = capsys.readouterr().err
+    assert "--stone" in err and "is a directory" in err and "does not exist" not in err
+
+
+def test_json_has_null_for_values_that_are_not_finite(capsys):
+    """An absurd lift coefficient gives NaN positions: the throw still ran, so exit 0 and strict JSON (null)."""
+    assert main(["throw", "--c-lift", "1e300", "--duration", "0.2", "--json"]) == 0
+    out = json.loads(capsys.readouterr().out, parse_constant=lambda c: pytest.fail(f"non-strict JSON token {c}"))
+    assert out["distance"] is None and out["parameters"]["c_lift"] == 1e300 and out["steps"] > 0
+
+
+def test_progress_line_before_the_animation_is_written(tmp_path, monkeypatch, capsys):
+    """On a terminal, "writing animation ..." is on stderr before the (slow) GIF is written. The coupled
+    simulation and the GIF are stubbed: a short flat throw stands in for them."""
+    import jaxskip
+    import jaxskip.plotting
+
+    real = jaxskip.simulate
+    monkeypatch.setattr(jaxskip, "simulate", lambda *a, water_field, **k: real(*a, **k))
+    written = []
+    monkeypatch.setattr(jaxskip.plotting, "animate_throw",
+                        lambda result, stone, path: written.append(capsys.readouterr().err))
+    monkeypatch.setattr(sys.stderr, "isatty", lambda: True)
+    assert main(["throw", "--water", "field", "--duration", "0.05", "--animate", str(tmp_path / "a.gif")]) == 0
+    assert len(written) == 1 and written[0].rstrip().endswith("writing animation ...")
+    monkeypatch.setattr(sys.stderr, "isatty", lambda: False)  # not a terminal: no progress lines
+    assert main(["throw", "--water", "field", "--duration", "0.05", "--animate", str(tmp_path / "a.gif")]) == 0
+    assert written[1] == ""
+
+
+def test_help_says_throw_simulates_flat_water_or_the_height_field():
+    from jaxskip.cli import build_parser
+
+    text = " ".join(build_parser().format_help().split())
+    assert "throw simulate one throw (flat water, or a coupled height field: --water field)" in text

@@ -13,17 +13,43 @@ ROOT = Path(__file__).resolve().parent.parent
 
 
 @pytest.mark.parametrize("argv, word", [
-    (["optimize", "--speed-range", "12", "3"], "speed is inverted"),
-    (["optimize", "--tilt-range", "5", "nan"], "tilt must be finite"),
-    (["optimize", "--spin", "500"], "spin must lie within"),
-    (["optimize", "--starts", "0"], "starts"),
+    (["optimize", "--speed-range", "12", "3"], "--speed-range is inverted"),
+    (["optimize", "--tilt-range", "5", "nan"], "--tilt-range must be finite"),
+    (["optimize", "--spin", "500"], "--spin must lie within"),
+    (["optimize", "--starts", "0"], "--starts must be an integer"),
     (["optimize", "--stone", "granite"], "stone"),
+    (["optimize", "--seed", "-1"], "--seed must be an integer >= 0, got -1"),
+    (["optimize", "--dt", "0"], "--dt"),
     (["sweep", "umin", "--tilts", "5:x:3"], "--tilts"),
-    (["sweep", "umin", "--speed-range", "0", "8"], "speed_range"),
+    (["sweep", "umin", "--tilts", "95"], "--tilts must be finite and in (-90, 90)"),
+    (["sweep", "umin", "--speed-range", "0", "8"], "--speed-range must start above 0"),
+    (["sweep", "umin", "--spin", "800"], "--spin must be finite and in [-500, 500] rev/s"),
+    (["sweep", "domain", "--speed", "150"], "--speed must be finite and in (0, 100] m/s"),
+    (["sweep", "umin", "--c-friction", "-1"], "--c-friction must be >= 0"),
     (["sweep", "merge"], "merge needs"),
-    (["optimize", "--polish", "-1"], "polish"),
-    (["optimize", "--horizon", "0"], "horizon"),
+    (["optimize", "--polish", "-1"], "--polish"),
+    (["optimize", "--horizon", "0"], "--horizon"),
     (["sweep", "domain", "--plot", "out.txt"], "--plot"),
+    # a flag the chosen method or kind does not use is refused, not ignored
+    (["optimize", "--method", "grid", "--polish", "3"], "--polish is not used by --method grid (only by gradient, "),
+    (["optimize", "--samples", "2"], "--samples is not used by --method gradient (only by perturbation)"),
+    (["optimize", "--method", "perturbation", "--horizon", "100"], "--horizon is not used by --method perturbation"),
+    (["optimize", "--method", "random", "--objective", "distance"], "--objective is not used by --method random"),
+    (["optimize", "--method", "grid", "--seed", "1"], "--seed is not used by --method grid"),
+    (["optimize", "--throws", "10"], "--throws is not used by --method gradient (only by random)"),
+    (["sweep", "umin", "--speed", "3"], "--speed is not used by sweep umin (only by domain)"),
+    (["sweep", "domain", "--iterations", "3"], "--iterations is not used by sweep domain (only by umin)"),
+    (["sweep", "merge", "a", "--out", "m", "--tilts", "5,6"], "--tilts is not used by sweep merge"),
+    (["sweep", "merge", "a", "--out", "m", "--chunk-size", "2"], "--chunk-size is not used by sweep merge"),
+    (["sweep", "merge", "a", "--out", "m", "--force-law", "seed"], "--force-law is not used by sweep merge"),
+    # sharding keeps its chunks in --out: without it the work would be lost
+    (["sweep", "umin", "--num-shards", "2"], "--shard-index/--num-shards need --out"),
+    (["sweep", "umin", "--shard-index", "0"], "--shard-index/--num-shards need --out"),
+    # output paths that cannot be written are refused before the search
+    (["optimize", "--plot", "/nonexistent/x.png"], "--plot '/nonexistent/x.png': the folder '/nonexistent' does"),
+    (["sweep", "umin", "--plot", "/nonexistent/x.svg"], "--plot"),
+    (["sweep", "umin", "--out", "/nonexistent/a/b"], "--out '/nonexistent/a/b': the folder"),
+    (["sweep", "merge", "a", "--out", "/nonexistent/a/b"], "--out"),
 ])
 def test_bad_input_exits_2(argv, word, capsys):
     assert main(argv) == 2
@@ -34,7 +60,7 @@ def test_bad_input_exits_2(argv, word, capsys):
 def test_no_traceback_from_the_command():
     p = subprocess.run([sys.executable, "-m", "jaxskip", "optimize", "--speed-range", "3", "3"], capture_output=True,
                        text=True, cwd=ROOT, timeout=120)
-    assert p.returncode == 2 and "speed is empty" in p.stderr and "Traceback" not in p.stderr
+    assert p.returncode == 2 and "--speed-range is empty" in p.stderr and "Traceback" not in p.stderr
 
 
 def test_sweep_json_and_files(tmp_path, capsys):
@@ -52,14 +78,88 @@ def test_optimize_random_json(capsys):
     r = json.loads(capsys.readouterr().out)
     assert r["method"] == "random" and r["forward_throws"] == 16 and r["best_bounces"] >= 1
     assert set(r["best"]) == {"speed", "tilt", "attack", "spin"}
+    assert r["config"] == {"stone": "paper", "mass": pytest.approx(0.1207, abs=1e-4), "attitude": "fixed",
+                           "integrator": "euler", "force_law": "bocquet", "velocity": "body", "c_lift": 1.0,
+                           "c_friction": 0.3, "dt": 2.5e-4, "duration": 5.0, "max_steps": 20000}
 
 
-def test_optimize_gradient_reports_gradient_norms(tmp_path, capsys):
+def test_optimize_takes_the_simulation_flags_of_throw(capsys):
+    """optimize shares throw's simulation flags: they change the configuration it runs (and reports)."""
+    assert main(["optimize", "--method", "random", "--throws", "4", "--dt", "5e-4", "--duration", "2",
+                 "--force-law", "seed", "--mass", "0.1", "--velocity", "local", "--json"]) == 0
+    c = json.loads(capsys.readouterr().out)["config"]
+    assert (c["dt"], c["duration"], c["max_steps"]) == (5e-4, 2.0, 4000)  # the step budget follows dt and duration
+    assert (c["force_law"], c["c_friction"], c["mass"]) == ("seed", 0.1, 0.1)
+    assert c["velocity"] == "local"
+
+
+def test_optimize_searches_with_the_given_coefficients(capsys):
+    """--c-lift/--c-friction reach the exact simulations of the search: the best throw's reported count
+    is what that throw makes with those coefficients, not with the law's own."""
+    import numpy as np
+
+    from jaxskip import SimConfig, Throw, simulate_batch, water_params
+
+    assert main(["optimize", "--method", "random", "--throws", "6", "--c-lift", "1.6", "--c-friction", "0.5",
+                 "--json"]) == 0
+    r = json.loads(capsys.readouterr().out)
+    assert (r["config"]["c_lift"], r["config"]["c_friction"]) == (1.6, 0.5)
+    b = r["best"]
+    throw = Throw.from_degrees(**{k: np.array([b[k]]) for k in ("speed", "tilt", "attack", "spin")})
+    mine = simulate_batch(throw, water=water_params(c_lift=1.6, c_friction=0.5), config=SimConfig(record=False))
+    theirs = simulate_batch(throw, config=SimConfig(record=False))
+    assert r["best_bounces"] == int(mine.bounces[0]) != int(theirs.bounces[0])
+
+
+def test_sweep_config_is_reported_and_pinned_to_its_folder(tmp_path, capsys):
+    """The sweep's spec carries the resolved simulation configuration (like optimize's `config`); a re-run in
+    the same --out with other settings is refused, the same settings resume (nothing recomputed)."""
+    out = tmp_path / "s"
+    argv = ["sweep", "umin", "--tilts", "20", "--iterations", "1", "--out", str(out), "--json"]
+    assert main(argv + ["--force-law", "seed", "--dt", "5e-4"]) == 0
+    r = json.loads(capsys.readouterr().out)
+    c = r["spec"]["config"]
+    assert (c["force_law"], c["c_lift"], c["c_friction"], c["dt"], c["max_steps"]) == ("seed", 1.0, 0.1, 5e-4, 10000)
+    assert c["stone"] == "clanet" and c["mass"] == pytest.approx(0.01449, abs=1e-5)
+    assert json.loads((out / "result.json").read_text())["spec"]["config"] == c
+    stamp = (out / "chunk-00000.json").stat().st_mtime_ns
+    assert main(argv) == 2  # the default force law and dt: another sweep
+    err = capsys.readouterr().err
+    assert "--out" in err and "different sweep" in err and "force_law" in err and "dt" in err
+    assert main(argv + ["--force-law", "seed", "--dt", "5e-4"]) == 0
+    assert json.loads(capsys.readouterr().out) == r and (out / "chunk-00000.json").stat().st_mtime_ns == stamp
+
+
+def test_default_sweep_is_sharded(tmp_path, capsys):
+    """Default chunks (one tilt for umin): each of two shards computes one tilt; merged they are the sweep."""
+    argv = ["sweep", "umin", "--tilts", "10,20", "--iterations", "2", "--json"]
+    for i in (0, 1):
+        assert main(argv + ["--out", str(tmp_path / f"s{i}"), "--shard-index", str(i), "--num-shards", "2"]) == 0
+        assert json.loads(capsys.readouterr().out) == {"complete": False, "out": str(tmp_path / f"s{i}")}
+        assert [p.name for p in (tmp_path / f"s{i}").glob("chunk-*.json")] == [f"chunk-0000{i}.json"]
+    assert main(["sweep", "merge", str(tmp_path / "s0"), str(tmp_path / "s1"), "--out", str(tmp_path / "m"),
+                 "--json"]) == 0
+    merged = json.loads(capsys.readouterr().out)
+    assert main(argv) == 0
+    assert json.loads(capsys.readouterr().out) == merged and merged["umin"][1] is not None
+
+
+@pytest.mark.parametrize("bad", [["--spin", "800"], ["--stone", "granite"], ["--dt", "0"], ["--mass", "-1"]])
+def test_bad_sweep_settings_write_nothing(bad, tmp_path, capsys):
+    out = tmp_path / "sp"
+    assert main(["sweep", "umin", "--tilts", "20", "--out", str(out), *bad]) == 2
+    assert not out.exists() and "Traceback" not in capsys.readouterr().err
+
+
+def test_optimize_gradient_reports_gradient_norms(tmp_path, capsys, monkeypatch):
     """Gradient-norm monitoring at the CLI: a line of text (and a picture panel), a JSON summary."""
     argv = ["optimize", "--method", "gradient", "--starts", "2", "--iterations", "1", "--attitude", "fixed",
             "--speed-range", "5", "7", "--tilt", "20", "--attack", "10", "--spin", "10", "--polish", "8"]
+    monkeypatch.setattr(sys.stderr, "isatty", lambda: True)  # a terminal: progress lines on stderr
     assert main(argv + ["--plot", str(tmp_path / "search.png")]) == 0
-    text = capsys.readouterr().out
+    text, err = capsys.readouterr()
+    assert err.startswith("compiling the gradient (once) ...\n")  # not silent while the gradient compiles
+    monkeypatch.setattr(sys.stderr, "isatty", lambda: False)
     assert "gradient norms (unconstrained units, before clipping): median" in text
     assert "the polish (8 exact throws near its best throws)" in text
     assert (tmp_path / "search.png").stat().st_size > 10_000

@@ -9,8 +9,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from jaxskip import ParameterError
+from jaxskip import MeshError, ParameterError
 from optimize import make_spec, merge, parabola_minimum, run_sweep
+from optimize.sweep import DOMAIN_CHUNK, default_chunk_size
 
 ROOT = Path(__file__).resolve().parent.parent
 
@@ -110,6 +111,43 @@ def test_folder_of_another_sweep_is_refused(tmp_path):
     run_sweep(make_spec("domain", tilts=[20.0], attacks=[20.0], speed=3.5), tmp_path)
     with pytest.raises(ParameterError, match="different sweep"):
         run_sweep(make_spec("domain", tilts=[25.0], attacks=[20.0], speed=3.5), tmp_path)
+    # the simulation's configuration is part of the sweep: another stone mass is another sweep
+    with pytest.raises(ParameterError, match=r"different sweep \(its spec.json differs in config, mass\)"):
+        run_sweep(make_spec("domain", tilts=[20.0], attacks=[20.0], speed=3.5, mass=0.02), tmp_path)
+
+
+def test_default_chunks_resume_and_shard_without_changing_the_numbers(tmp_path):
+    """By default a sweep is cut into about CHUNKS chunks (a domain chunk holds at least DOMAIN_CHUNK
+    grid points): a default sweep resumes and shards, and gives the numbers of one chunk."""
+    assert [default_chunk_size("umin", n) for n in (1, 3, 8, 9, 12)] == [1, 1, 1, 2, 2]
+    assert [default_chunk_size("domain", n) for n in (72, 4096)] == [DOMAIN_CHUNK, 512]
+    umin = make_spec("umin", tilts=[10.0, 20.0, 40.0], iterations=3)
+    assert umin.chunk_size == 1
+    assert run_sweep(umin, tmp_path / "u1", shard_index=1, num_shards=2) is None  # shard 1 has work
+    assert [p.name for p in (tmp_path / "u1").glob("chunk-*.json")] == ["chunk-00001.json"]
+    whole = run_sweep(make_spec("umin", tilts=[10.0, 20.0, 40.0], iterations=3, chunk_size=3))
+    assert {k: v for k, v in run_sweep(umin).items() if k != "spec"} == {k: v for k, v in whole.items() if k != "spec"}
+    tilts, attacks = np.linspace(10.0, 50.0, 9), np.linspace(0.0, 35.0, 8)  # 72 grid points
+    domain = make_spec("domain", tilts=tilts, attacks=attacks, chunk_size=64)  # two chunks
+    chunked = run_sweep(domain, tmp_path / "d")
+    assert len(list((tmp_path / "d").glob("chunk-*.json"))) == 2
+    one = run_sweep(make_spec("domain", tilts=tilts, attacks=attacks))
+    assert one["spec"]["chunk_size"] == DOMAIN_CHUNK  # the default: one chunk
+    assert chunked["bounces"] == one["bounces"] and chunked["first_contact_time"] == one["first_contact_time"]
+    assert 0 < sum(map(sum, one["bounces"])) and min(map(min, one["bounces"])) == 0
+
+
+def test_spec_carries_the_resolved_configuration():
+    spec = make_spec("umin", tilts=[20.0], force_law="seed", c_lift=0.8, dt=1e-4, duration=2.0, density=2000.0)
+    assert (spec.max_steps, spec.c_friction, spec.config["c_friction"], spec.config["c_lift"]) == (20000, None, 0.1, 0.8)
+    assert spec.config["mass"] == pytest.approx(2000.0 / 2700.0 * 0.0144855, rel=1e-4)  # the Clanet disk, lighter
+    assert spec.to_dict()["config"] == spec.config and spec.config["dt"] == 1e-4
+    with pytest.raises(MeshError, match="granite"):  # the stone is loaded before anything is written
+        make_spec("umin", tilts=[20.0], stone="granite")
+    with pytest.raises(TypeError, match="c_drag"):
+        make_spec("umin", tilts=[20.0], c_drag=1.0)
+    with pytest.raises(ParameterError, match="num_shards > 1 needs an out_dir"):
+        run_sweep(spec, num_shards=2)
 
 
 def _sweep_in_subprocess(out, env_updates, devices):
@@ -147,6 +185,13 @@ def test_four_host_devices_equal_one(tmp_path):
     ({"kind": "umin", "tilts": [20.0], "speed_range": (0.0, 8.0)}, "speed_range must start above 0"),
     ({"kind": "umin", "tilts": [20.0], "attacks": [10.0, 20.0]}, "one attack"),
     ({"kind": "domain", "tilts": [20.0], "spin": float("nan")}, "spin"),
+    # the throw's own limits (Throw.from_degrees): spin within +-500 rev/s, speed within (0, 100] m/s
+    ({"kind": "umin", "tilts": [20.0], "spin": 800.0}, r"spin must be finite and in \[-500, 500\] rev/s"),
+    ({"kind": "domain", "tilts": [20.0], "speed": 150.0}, r"speed must be finite and in \(0, 100\] m/s"),
+    ({"kind": "umin", "tilts": [20.0], "speed_range": (1.0, 150.0)}, "speed_range must"),
+    ({"kind": "umin", "tilts": [20.0], "dt": 0.0}, "dt"),
+    ({"kind": "umin", "tilts": [20.0], "mass": -1.0}, "mass"),
+    ({"kind": "umin", "tilts": [20.0], "c_lift": -1.0}, "c_lift"),
 ])
 def test_bad_sweep_input(kwargs, message):
     with pytest.raises(ParameterError, match=message):

@@ -1,0 +1,48 @@
+"""Simulation settings in user terms -> the library's objects, shared by the CLI and the sweeps.
+
+One place turns the values of ``jaxskip throw``'s simulation flags (stone, mass or density, force
+law and coefficients, velocity, attitude, integrator, dt [s], duration [s], max_steps) into a
+validated ``(SimConfig, WaterParams, RigidStone)``, and back into a JSON-ready description.
+"""
+
+from __future__ import annotations
+
+import os
+
+from ._checks import ParameterError
+
+#: The simulation flags' values when not given (``stone`` and ``attitude``: ``jaxskip throw``'s).
+#: ``max_steps`` None: enough steps to spend ``duration`` in the water at ``dt``.
+SIM_DEFAULTS = {"stone": "paper", "mass": None, "density": None, "force_law": "bocquet", "c_lift": None,
+                "c_friction": None, "velocity": "body", "attitude": "free", "integrator": "euler", "dt": 2.5e-4,
+                "duration": 5.0, "max_steps": None}
+
+
+def simulation(*, stone, mass, density, force_law, c_lift, c_friction, velocity, attitude, integrator, dt, duration,
+               max_steps):
+    """User values (the keys of :data:`SIM_DEFAULTS`) -> validated ``(SimConfig, WaterParams, RigidStone)``.
+
+    ``stone``: a built-in name or an ``.obj`` path [m]; ``mass`` [kg] or ``density`` [kg/m^3] (None: the
+    stone's own); ``c_lift``/``c_friction`` None: the force law's calibrated values; ``dt`` and
+    ``duration`` [s]; ``max_steps`` None: :func:`jaxskip.steps_for` of ``duration`` and ``dt``.
+    """
+    from . import ForceModel, SimConfig, water_params
+    from .api import resolve_stone
+    from .simulate import steps_for
+
+    if isinstance(stone, (str, os.PathLike)) and os.path.isdir(stone):
+        raise ParameterError(f"stone {str(stone)!r} is a directory, not a stone name or an .obj file")
+    max_steps = steps_for(duration, dt) if max_steps is None else max_steps
+    config = SimConfig(dt=dt, duration=duration, max_steps=max_steps, integrator=integrator, attitude=attitude,
+                       force=ForceModel(law=force_law, velocity=velocity))
+    water = water_params(force_law, c_lift=c_lift, c_friction=c_friction)
+    rigid, _ = resolve_stone(stone, mass=mass, density=density)
+    return config, water, rigid
+
+
+def describe(stone, config, water, rigid) -> dict:
+    """The resolved simulation configuration, JSON-ready (SI units; the stone as given)."""
+    return {"stone": str(stone), "mass": float(rigid.mass), "attitude": config.attitude,
+            "integrator": config.integrator, "force_law": config.force.law, "velocity": config.force.velocity,
+            "c_lift": float(water.c_lift), "c_friction": float(water.c_friction), "dt": config.dt,
+            "duration": config.duration, "max_steps": config.max_steps}
