@@ -132,36 +132,42 @@ for n in segs:
     report(f"disk, {int(stone.triangles.shape[0])} triangles", run(DEFAULT, stone), ref_disk)
 
 # %% [markdown]
-# ## The water: flat, or a height field — its grid spacing and clamp
+# ## The water: flat, or a height field — its grid spacing, clamp and time step
 # The library's default is flat water; `simulate(water_field=default_window())` couples the stone to
-# a moving 64 cm window of O'Brien–Hodgins columns (1 cm, smooth clamp). Reference: the same
-# window at half the spacing (0.5 cm, 128² columns) with the paper's clamp. Each throw runs on its
-# own (compiled once per configuration; compile excluded), on a subset of the batch: a coupled
-# throw costs ~100× a flat one.
+# a moving 64 cm window of O'Brien–Hodgins columns (1 cm, smooth clamp, a water step every 1 ms of
+# stone time). Reference: the same window at half the spacing (0.5 cm, 128² columns) with the
+# paper's clamp, stepped every 0.25 ms in full mode. Each throw runs on its own (compiled once per
+# configuration; compile excluded), on a subset of the batch: a coupled throw costs ~100× a flat
+# one. Full mode also varies the water's step (0.5 and 4 ms against the default 1 ms): the
+# multirate coupling's own knob.
 
 # %%
 from jaxskip.coupled import default_window, rollout_coupled  # noqa: E402
 
 NW = 3 if QUICK else 24
 window = default_window()
+# label: (grid, water step [s]; None: the coupling's default, 1 ms)
 water_grids = {
-    "field 2 cm, smooth clamp": dataclasses.replace(window, shape=(32, 32), spacing=0.02, sponge_width=4),
-    "field 1 cm, smooth (coupled default)": window,
+    "field 2 cm, smooth clamp": (dataclasses.replace(window, shape=(32, 32), spacing=0.02, sponge_width=4), None),
+    "field 1 cm, smooth (coupled default)": (window, None),
 }
 if not QUICK:
-    water_grids["field 1 cm, zero clamp"] = dataclasses.replace(window, clamp="zero")
-    water_grids["field 1 cm, paper's clamp"] = dataclasses.replace(window, clamp="reference")
-fine = (dataclasses.replace(window, shape=(128, 128), spacing=0.005, sponge_width=16, clamp="reference") if not QUICK
-        else dataclasses.replace(window, clamp="reference"))
+    water_grids["field 1 cm, zero clamp"] = (dataclasses.replace(window, clamp="zero"), None)
+    water_grids["field 1 cm, paper's clamp"] = (dataclasses.replace(window, clamp="reference"), None)
+    water_grids["field 1 cm, water step 0.5 ms"] = (window, 5e-4)
+    water_grids["field 1 cm, water step 4 ms"] = (window, 4e-3)
+fine = ((dataclasses.replace(window, shape=(128, 128), spacing=0.005, sponge_width=16, clamp="reference"), 2.5e-4)
+        if not QUICK else (dataclasses.replace(window, clamp="reference"), None))
 
 
-def run_field(grid):
-    """As :func:`run`, one throw at a time, on a height field (``grid``; ``None``: flat water)."""
+def run_field(grid, water_dt=None):
+    """As :func:`run`, one throw at a time, on a height field (``grid``, stepped every ``water_dt``
+    [s] of stone time, None: the coupling's default; ``grid`` None: flat water)."""
     cfg = DEFAULT
     if grid is None:
         fn = lambda th: rollout(cfg, th, paper, water)[1]  # noqa: E731
     else:
-        fn = lambda th: rollout_coupled(cfg, grid, th, paper, water)[1]  # noqa: E731
+        fn = lambda th: rollout_coupled(cfg, grid, th, paper, water, water_dt=water_dt)[1]  # noqa: E731
     throws = Throw.from_degrees(**{k: v[:NW] for k, v in box.items()})
     one = lambda i: jax.tree_util.tree_map(lambda a: a[i], throws)  # noqa: E731
     compiled = jax.jit(fn).lower(one(0)).compile()
@@ -175,11 +181,11 @@ def run_field(grid):
     return np.array(counts), np.array(durations), np.array(touchdown), (time.perf_counter() - t0) / NW
 
 
-ref_water = run_field(fine)
-print(f"water reference: {fine.spacing * 100:g} cm columns {fine.shape}, {fine.clamp} clamp: "
-      f"mean {ref_water[0].mean():.2f} bounces, {ref_water[3]:.2f} s per throw")
-for label, grid in [("flat water (library default)", None)] + list(water_grids.items()):
-    report("water: " + label, run_field(grid), ref_water, width=43)
+ref_water = run_field(*fine)
+print(f"water reference: {fine[0].spacing * 100:g} cm columns {fine[0].shape}, {fine[0].clamp} clamp, water step "
+      f"{(fine[1] or 1e-3) * 1e3:g} ms: mean {ref_water[0].mean():.2f} bounces, {ref_water[3]:.2f} s per throw")
+for label, (grid, water_dt) in [("flat water (library default)", (None, None))] + list(water_grids.items()):
+    report("water: " + label, run_field(grid, water_dt), ref_water, width=43)
 
 # %% [markdown]
 # ## The Pareto chart
@@ -219,7 +225,9 @@ wc = np.array([r[1] for r in water_rows])
 we = np.array([error(r) for r in water_rows])
 ax.scatter(wc * 1e3, np.maximum(we, FLOOR), marker="^", color="C4", label=f"water: flat vs height field ({NW} throws, one at a time; own reference)")
 for i, (r, c, e) in enumerate(zip(water_rows, wc, we)):
-    ax.annotate(r[0].replace("water: ", ""), (c * 1e3, max(e, FLOOR)), fontsize=7, xytext=(-30, 10 + 11 * (i % 3)),
+    # (labels alternately above and below their points, fanned out: the series' points crowd together)
+    dy = 10 + 12 * (i // 2 % 3) if i % 2 == 0 else -18 - 12 * (i // 2 % 3)
+    ax.annotate(r[0].replace("water: ", ""), (c * 1e3, max(e, FLOOR)), fontsize=7, xytext=(-40, dy),
                 textcoords="offset points", arrowprops=dict(arrowstyle="-", lw=0.4, color="0.6"))
 ax.set_xscale("log")
 ax.set_yscale("log")
@@ -246,8 +254,11 @@ RUN.done(path)
 # * **Mesh.** From 32 to 512 triangles the disk's count disagreement with 1024 triangles falls
 #   from 19 % to 5 % at roughly linear cost; the paper's 38-triangle stone is at the coarse end.
 # * **Water.** The height field is *not converged* in its spacing: at 1 cm the counts differ from
-#   the 0.5 cm reference on ~75 % of throws, the first contact by ~21 % and the second touchdown
-#   by 26–27 %, whatever the clamp (session 13, after the fix of where the stone's push lands;
-#   before it: ~60 %, ~36 %, 24–44 %). It also changes the contact itself: flat water's first
-#   contact differs from the 0.5 cm field's by ~115 %. Flat water stays the
-#   library's default; the coupled field is an experimental option (README, "Water").
+#   the 0.5 cm reference on ~70 % of throws, the first contact by ~16 % and the second touchdown
+#   by ~19 %, whatever the clamp (session 15, reference stepped every 0.25 ms; session 13, with a
+#   1 ms reference: ~75 %, ~21 %, 26–27 %). Its time step matters less than its spacing: a water
+#   step of 0.5 ms instead of the default 1 ms gains little (15 % / 17 %) at 1.5× the cost, 4 ms
+#   loses a lot (25 % / 37 %) for a 1.6× saving — so 1 ms stays. The coupling also changes the
+#   contact itself: flat water's first contact differs from the 0.5 cm field's by ~110 %. Flat
+#   water stays the library's default; the coupled field is an experimental option (README,
+#   "Water").
