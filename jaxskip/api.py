@@ -51,10 +51,13 @@ class Contact:
     the stone never left the water)."""
 
     def to_dict(self) -> dict:
-        """JSON-ready: values that are not known (NaN, e.g. the tilt at the end of the last
-        contact when the stone never left the water) become ``None``."""
+        """JSON-ready: the fields (SI: s, m, rad), ``duration`` [s] and the tilts in degrees
+        (``tilt_start_deg``, ``tilt_end_deg``, ``tilt_change_deg``); values that are not known (NaN,
+        e.g. the tilt at the end of the last contact when the stone never left the water) become ``None``."""
         d = dataclasses.asdict(self)
         d["duration"] = self.t_end - self.t_start
+        d["tilt_start_deg"] = math.degrees(self.tilt_start)
+        d["tilt_end_deg"] = math.degrees(self.tilt_end)
         d["tilt_change_deg"] = math.degrees(self.tilt_end - self.tilt_start)
         return {k: (v if math.isfinite(v) else None) for k, v in d.items()}
 

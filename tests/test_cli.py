@@ -27,7 +27,10 @@ def test_default_throw_json_and_plot(tmp_path):
     assert isinstance(out["bounces"], int) and out["bounces"] >= 5
     assert out["outcome"] == "sank" and out["distance"] > 1.0
     assert len(out["contacts"]) == out["bounces"] + 1
-    assert {"t_start", "t_end", "x"} <= set(out["contacts"][0])
+    first = out["contacts"][0]
+    assert {"t_start", "t_end", "x", "x_end"} <= set(first) and first["x_end"] > first["x"]
+    assert first["tilt_start_deg"] == pytest.approx(20.0) and first["tilt_start"] == pytest.approx(0.349066, rel=1e-5)
+    assert first["tilt_change_deg"] == pytest.approx(first["tilt_end_deg"] - first["tilt_start_deg"])
     params = out["parameters"]
     assert params["speed"] == 8.0 and params["tilt_deg"] == pytest.approx(20.0)
     assert params["force_law"] == "bocquet" and params["stone"] == "paper"
