@@ -175,3 +175,17 @@ def test_help_says_throw_simulates_flat_water_or_the_height_field():
 
     text = " ".join(build_parser().format_help().split())
     assert "throw simulate one throw (flat water, or a coupled height field: --water field)" in text
+
+
+def test_installed_console_script_runs_from_anywhere(tmp_path):
+    """The ``jaxskip`` command the install puts next to this Python (the README's first command) starts
+    and lists its subcommands from an unrelated folder, without the source tree on the path."""
+    import shutil
+
+    script = shutil.which("jaxskip", path=os.path.dirname(sys.executable)) or shutil.which("jaxskip")
+    if script is None:
+        pytest.skip("jaxskip is not installed as a command here (pip install . puts it next to python)")
+    env = {k: v for k, v in os.environ.items() if k != "PYTHONPATH"}
+    p = subprocess.run([script, "--help"], capture_output=True, text=True, cwd=tmp_path, env=env, timeout=120)
+    assert p.returncode == 0, p.stderr
+    assert all(c in p.stdout for c in ("throw", "optimize", "sweep"))
