@@ -171,15 +171,18 @@ def run_optimize(args) -> int:
         print_json(out)
     else:
         b = r.best
-        print(f"{r.method} search: best {r.best_bounces} bounces at speed {b['speed']:.2f} m/s, tilt "
+        what = (f"longest distance {r.best_distance:.2f} m ({r.best_bounces} bounces)" if r.objective == "distance"
+                else f"best {r.best_bounces} bounces ({r.best_distance:.2f} m)")
+        print(f"{r.method} search: {what} at speed {b['speed']:.2f} m/s, tilt "
               f"{b['tilt']:.1f} deg, attack {b['attack']:.1f} deg, spin {b['spin']:.1f} rev/s")
         print(f"cost: {r.forward_throws} exact throws, {r.gradient_evals} gradient evaluations, "
               f"{r.wall_time:.1f} s wall")
         polish = [h for h in r.history if h.get("phase") == "polish"]
         if polish:
             ascent = max(h["best"] for h in r.history if h.get("phase") != "polish")
-            print(f"  the ascent's best: {ascent} bounces; the polish ({len(polish[0]['bounces'])} exact throws near "
-                  f"its best throws): {max(polish[0]['bounces'])}")
+            if r.objective == "bounces":
+                print(f"  the ascent's best: {ascent} bounces; the polish ({len(polish[0]['bounces'])} exact throws "
+                      f"near its best throws): {max(polish[0]['bounces'])}")
         if health is not None:
             fmt = lambda v: "n/a" if v is None else f"{v:.3g}"  # noqa: E731
             st = health["starts"]

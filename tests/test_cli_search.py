@@ -181,3 +181,15 @@ def test_optimize_perturbation_with_samples_and_polish(capsys):
     assert r["history"][-1]["phase"] == "polish" and "gradient_norms" not in r
     assert main(argv) == 0
     assert "the polish (4 exact throws near its best throws)" in capsys.readouterr().out
+
+
+def test_optimize_distance_reports_the_longest_throw(capsys):
+    """--objective distance: the summary and the JSON name the longest true distance, not a count."""
+    argv = ["optimize", "--objective", "distance", "--starts", "1", "--iterations", "1", "--polish", "2",
+            "--speed", "8", "--tilt", "20", "--spin", "20", "--max-steps", "4000"]
+    assert main(argv) == 0
+    text = capsys.readouterr().out
+    assert text.startswith("gradient search: longest distance ") and " m (" in text
+    assert main(argv + ["--json"]) == 0
+    r = json.loads(capsys.readouterr().out)
+    assert r["objective"] == "distance" and r["best_distance"] == max(d for h in r["history"] for d in h["distance"])
