@@ -217,7 +217,8 @@ class WaterGrid:
 
 
 def stable_dt(spacing: float, depth: float, gravity: float = 9.81) -> float:
-    """Largest stable time step [s] of the pipe scheme: :math:`\\frac{\\sqrt3}{2} l/\\sqrt{gH}`.
+    """Largest stable time step [s] of the pipe scheme: :math:`\\frac{\\sqrt3}{2} l/\\sqrt{gH}`, for a
+    column ``spacing`` l [m], a ``depth`` H [m] and ``gravity`` g [m/s^2].
 
     >>> round(stable_dt(0.01, 0.1), 6)
     0.008744

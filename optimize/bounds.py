@@ -104,8 +104,14 @@ class Box:
 
 
 def make_box(searched=None, held=None) -> Box:
-    """Validate a search box. ``searched``: {name: (low, high)} (default :data:`HUMAN_BOX`);
-    ``held``: {name: value} for the others (defaults: the default throw's values)."""
+    """Validate a search box, in user units: speed [m/s], tilt and attack [deg], spin [rev/s].
+
+    ``searched``: {name: (low, high)} (default :data:`HUMAN_BOX`), each inside :data:`LIMITS`;
+    ``held``: {name: value} for the others (defaults: the default throw's values).
+
+    >>> make_box({"speed": (3.0, 12.0)}, {"tilt": 20.0}).searched
+    (('speed', 3.0, 12.0),)
+    """
     searched = dict(HUMAN_BOX if searched is None else searched)
     held = dict(held or {})
     for name in list(searched) + list(held):

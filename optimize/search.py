@@ -63,6 +63,7 @@ class SearchResult:
     history: list
     """Per iteration: {"iteration", "bounces" (per start), "objective" (per start, surrogate), "best"}."""
     box: Box
+    """The search's bounds (:class:`optimize.bounds.Box`, user units)."""
     wall_time: float
     """Wall-clock time, compile included [s]."""
     forward_throws: int
@@ -403,7 +404,9 @@ def perturbation_search(box: Box | None = None, *, stone="paper", config: SimCon
 
     The gradient of the smoothed exact count at ``u`` (unconstrained coordinates) is
     :math:`\frac{1}{2\sigma m}\sum_k [N(u+\sigma\epsilon_k) - N(u-\sigma\epsilon_k)]\,\epsilon_k`
-    over ``samples`` = m pairs; every count is an exact simulation. Nothing is differentiated,
+    over ``samples`` = m pairs, :math:`\epsilon_k` standard normal; ``sigma`` is the smoothing
+    scale in the unconstrained (logit) coordinates of the box (dimensionless: 0.3 moves a parameter
+    at the middle of its range by ~7 % of the range); every count is an exact simulation. Nothing is differentiated,
     so the rollout's chaos (its pathwise gradients grow e-fold every ~40-50 ms of contact,
     benchmarks/README.md) does not reach the estimate: it is the estimator a chaotic count calls
     for. ``polish``/``polish_scale`` as in :func:`gradient_search`: exact throws near the best
