@@ -295,7 +295,7 @@ def simulate(
         # (called with the same arguments as the tests and other callers, so lru_cache finds the same entry)
         return _chunk_runner(config, n) if water_field is None else _chunk_runner(config, n, water_field)
 
-    run = runner(min(chunk, config.max_steps))
+    runner(min(chunk, config.max_steps))  # the first chunk's program (lru_cache: built once)
     if progress and _chunk_runner.cache_info().currsize > compiled_before:
         print("  compiling the simulator for this configuration (once, ~2 s)...", file=sys.stderr, flush=True)
 
@@ -310,7 +310,7 @@ def simulate(
     done = 0
     while done < config.max_steps:
         n = min(chunk, config.max_steps - done)  # the last chunk stops at max_steps (compiled only if reached)
-        carry, rec = (run if n == chunk or done == 0 else runner(n))(carry, throw, np.bool_(start), rigid, water)
+        carry, rec = runner(n)(carry, throw, np.bool_(start), rigid, water)
         start = False
         records.append(jax.device_get(rec))
         if water_field is not None:

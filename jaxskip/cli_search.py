@@ -59,7 +59,7 @@ def add_parsers(sub) -> None:
           type=_float("--learning-rate"), metavar="LR")
     _only(o, METHOD_FLAGS, "--polish", f"exact throws sampled near the best throws found, after the ascent "
           f"(default {METHOD_DEFAULTS['polish']}; 0: none). The free stone's count is chaotic: sampling near the "
-          "ascent's best finds more than the ascent (21 -> 51 bounces in the default search)", type=int, metavar="N")
+          "ascent's best usually finds more than the ascent", type=int, metavar="N")
     _only(o, METHOD_FLAGS, "--samples", "antithetic pairs of exact throws per start and iteration (default 8)",
           type=int, metavar="N")
     _only(o, METHOD_FLAGS, "--horizon", "steps the surrogate is differentiated through (default: the whole rollout)",
