@@ -25,7 +25,8 @@ from .body import RigidStone, rigid_stone
 from .forces import WaterParams, water_params
 from .mesh import TriMesh
 from .coupled import default_water_dt, initial_field, make_coupled_step
-from .simulate import _ALIVE, OUTCOMES, STEP_LIMIT, SimConfig, StoneState, Tracker, _new_tracker, _scan, initial_state, make_step
+from .simulate import (_ALIVE, OUTCOMES, STEP_LIMIT, SimConfig, StoneState, Tracker, _new_tracker, _scan, initial_state,
+                       make_step, warn_if_coarse)
 from .stones import BUILTIN_STONES, load_stone
 from .throw import Throw
 from .water import WaterGrid, total_volume
@@ -257,7 +258,8 @@ def simulate(
         a path to an ``.obj`` file [m], a :class:`TriMesh` or a :class:`RigidStone`.
     mass, density : override the stone's default density with a mass [kg] or density [kg/m^3].
     water : :class:`WaterParams`; default ``water_params(config.force.law)``.
-    config : :class:`SimConfig`; default ``SimConfig()``.
+    config : :class:`SimConfig`; default ``SimConfig()`` (a ``dt`` above 1 ms is valid but unconverged:
+        an :class:`jaxskip.simulate.AccuracyWarning` says so).
     chunk : steps per compiled chunk; the run stops after the first chunk in
         which the stone goes out of play.
     progress : print a progress line to stderr.
@@ -283,6 +285,7 @@ def simulate(
                              "(use jax.vmap(rollout) for batches)")
     throw.check()
     config = SimConfig() if config is None else config
+    warn_if_coarse(config)
     chunk = check_int("chunk", chunk, minimum=1)
     water = _default_water(config.force.law, x64) if water is None else water
     rigid, name = resolve_stone(stone, mass=mass, density=density)

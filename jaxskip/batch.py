@@ -30,7 +30,7 @@ import numpy as np
 from ._checks import ParameterError, check_int
 from .api import resolve_stone
 from .forces import WaterParams, water_params
-from .simulate import OUTCOMES, SimConfig, StoneState, Tracker, _new_tracker, _scan, initial_state, make_step
+from .simulate import OUTCOMES, SimConfig, StoneState, Tracker, _new_tracker, _scan, initial_state, make_step, warn_if_coarse
 from .throw import Throw
 
 
@@ -128,7 +128,8 @@ def simulate_batch(
     stone, mass, density : as in :func:`jaxskip.simulate` (built-in name, ``.obj`` path, mesh or
         :class:`RigidStone`; mass [kg] or density [kg/m^3]).
     water : :class:`WaterParams`; default ``water_params(config.force.law)``.
-    config : :class:`SimConfig` (its ``record`` is ignored: no trajectories are kept).
+    config : :class:`SimConfig` (its ``record`` is ignored: no trajectories are kept; a ``dt`` above 1 ms
+        is valid but unconverged: an :class:`jaxskip.simulate.AccuracyWarning` says so).
     lanes : throws advanced together (the vmapped batch); at most N are used. Default
         (``None``): :func:`default_lanes` of N and the device count — about N/64 lanes per
         device, a power of two in [8, 256]. With several local JAX devices (``import jaxskip``
@@ -155,6 +156,7 @@ def simulate_batch(
         raise ParameterError(f"throws must have exactly one batch axis with at least one throw; got shape {throws.shape}")
     throws.check()
     config = SimConfig() if config is None else config
+    warn_if_coarse(config)
     sharding = _lane_sharding()
     n_devices = 1 if sharding is None else len(sharding.mesh.devices.flat)
     lanes = default_lanes(throws.shape[0], n_devices) if lanes is None else check_int(

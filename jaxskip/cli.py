@@ -15,6 +15,7 @@ import json
 import math
 import os
 import sys
+import warnings
 
 from ._checks import ParameterError
 from .settings import SIM_DEFAULTS, describe, simulation  # noqa: F401 (shared with cli_search)
@@ -57,7 +58,9 @@ def add_common(p, *, stone="paper", attitude="free", plot="write a picture (PNG/
                    help=f"6-DoF (free) or tilt held (fixed) (default {attitude})")
     p.add_argument("--integrator", choices=("euler", "rk4"), help="time integrator (default euler)")
     p.add_argument("--duration", type=_float("--duration"), metavar="S", help="simulated time limit [s] (default 5)")
-    p.add_argument("--dt", type=_float("--dt"), metavar="S", help="time step in contact [s] (default 2.5e-4)")
+    p.add_argument("--dt", type=_float("--dt"), metavar="S",
+                   help="time step in contact [s], up to 0.01 (default 2.5e-4; above 1e-3 answers are unconverged: "
+                        "a warning says so)")
     p.add_argument("--max-steps", type=int, metavar="N",
                    help="step budget (default: enough to spend --duration in the water at --dt; 20000 at the defaults)")
     p.add_argument("--json", action="store_true", help="print one JSON object on stdout")
@@ -225,11 +228,29 @@ def _with_flag(message: str, args) -> str:
     return f"{names[word]} {rest}" if space and word in names else message
 
 
+def _warning_printer(args):
+    """``warnings.showwarning`` for this edge: one line on stderr (``jaxskip: warning: ...``), no source
+    line, the parameter named by its flag (``--dt = 5 ms ...``)."""
+
+    def show(message, category, filename, lineno, file=None, line=None):
+        print(f"jaxskip: warning: {_with_flag(str(message), args)}", file=sys.stderr, flush=True)
+
+    return show
+
+
 def main(argv=None) -> int:
     """Entry point of the ``jaxskip`` command; returns the exit status."""
     args = build_parser().parse_args(argv)
     from .mesh import MeshError
+    from .simulate import AccuracyWarning
 
+    with warnings.catch_warnings():
+        warnings.simplefilter("once", AccuracyWarning)  # once per run, however many batches a search runs
+        warnings.showwarning = _warning_printer(args)
+        return _run(args, MeshError)
+
+
+def _run(args, MeshError) -> int:
     try:
         if args.command == "throw":
             return _throw(args)

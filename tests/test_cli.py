@@ -74,7 +74,10 @@ def test_obj_stone(tmp_path):
     (["--force-law", "magic"], "force-law"),
     (["--max-steps", "0"], "--max-steps must be an integer in [1, "),
     (["--spin", "600"], "--spin must be finite and in [-500, 500] rev/s"),
-    (["--c-lift", "-1"], "--c-lift must be >= 0"),
+    (["--c-lift", "-1"], "--c-lift must be in [0, 10], got -1"),
+    (["--c-lift", "1e300"], "--c-lift must be in [0, 10], got 1e+300"),
+    (["--mass", "0.001"], "--mass must be in [0.00455, 1.14] kg for this stone (45.5 cm^3"),
+    (["--density", "50"], "--density must be in [100, 25000] kg/m^3"),
     (["--mass", "1", "--density", "2000"], "--density: not allowed with argument --mass"),
     (["--plot", "out.txt"], "--plot"),
 ])
@@ -145,10 +148,23 @@ def test_stone_that_is_a_directory(tmp_path, capsys):
 
 
 def test_json_has_null_for_values_that_are_not_finite(capsys):
-    """An absurd lift coefficient gives NaN positions: the throw still ran, so exit 0 and strict JSON (null)."""
-    assert main(["throw", "--c-lift", "1e300", "--duration", "0.2", "--json"]) == 0
+    """The default stone sinks during its last contact, which therefore has no end tilt: NaN inside, null
+    in the strict JSON on stdout."""
+    assert main(["throw", "--json"]) == 0
     out = json.loads(capsys.readouterr().out, parse_constant=lambda c: pytest.fail(f"non-strict JSON token {c}"))
-    assert out["distance"] is None and out["parameters"]["c_lift"] == 1e300 and out["steps"] > 0
+    last = out["contacts"][-1]
+    assert out["outcome"] == "sank" and last["tilt_end"] is None and last["tilt_change_deg"] is None
+    assert all(c["tilt_end"] is not None for c in out["contacts"][:-1])
+
+
+def test_coarse_dt_is_warned_about_on_stderr(capsys):
+    """A valid but unconverged --dt runs, warns once on stderr naming the flag, and keeps stdout strict JSON."""
+    assert main(["throw", "--dt", "0.005", "--json"]) == 0
+    captured = capsys.readouterr()
+    assert json.loads(captured.out)["parameters"]["dt"] == 0.005
+    lines = captured.err.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("jaxskip: warning: --dt = 5 ms") and "unconverged" in lines[0]
+    assert main(["throw", "--json"]) == 0 and "warning" not in capsys.readouterr().err
 
 
 def test_progress_line_before_the_animation_is_written(tmp_path, monkeypatch, capsys):

@@ -25,7 +25,7 @@ ROOT = Path(__file__).resolve().parent.parent
     (["sweep", "umin", "--speed-range", "0", "8"], "--speed-range must start above 0"),
     (["sweep", "umin", "--spin", "800"], "--spin must be finite and in [-500, 500] rev/s"),
     (["sweep", "domain", "--speed", "150"], "--speed must be finite and in (0, 100] m/s"),
-    (["sweep", "umin", "--c-friction", "-1"], "--c-friction must be >= 0"),
+    (["sweep", "umin", "--c-friction", "-1"], "--c-friction must be in [0, 10]"),
     (["sweep", "merge"], "merge needs"),
     (["optimize", "--polish", "-1"], "--polish"),
     (["optimize", "--horizon", "0"], "--horizon"),

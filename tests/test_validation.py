@@ -40,8 +40,10 @@ def test_force_model_and_water():
         water_params(rho_water=0.0)
     with pytest.raises(ParameterError, match="gravity"):
         water_params(gravity=math.nan)
-    with pytest.raises(ValueError, match="c_friction"):
+    with pytest.raises(ValueError, match=r"c_friction must be in \[0, 10\], got -0.1"):
         water_params(c_friction=-0.1)
+    with pytest.raises(ValueError, match=r"c_lift must be in \[0, 10\], got 1e\+20"):
+        water_params(c_lift=1e20)  # ran before: the default throw then flew 7e11 m
 
 
 def test_stone_mass_and_density():
@@ -51,6 +53,11 @@ def test_stone_mass_and_density():
         rigid_stone(paper_stone(), density=math.nan)
     with pytest.raises(ParameterError, match="exactly one"):
         rigid_stone(paper_stone())
+    with pytest.raises(ParameterError, match=r"density must be in \[100, 25000\] kg/m\^3"):
+        rigid_stone(paper_stone(), density=30000.0)
+    with pytest.raises(ParameterError, match=r"mass must be in \[0.00455, 1.14\] kg for this stone"):
+        simulate(stone="paper", mass=1e-5)  # density 0.2 kg/m^3: ran before, and flipped 0.01 s after release
+    assert float(rigid_stone(paper_stone(), mass=1.1).mass) == pytest.approx(1.1)  # density 24 000: accepted
     with pytest.raises(ParameterError, match="mass"):
         simulate(stone="paper", mass=0.0)
     with pytest.raises(ParameterError, match="throw"):
@@ -108,3 +115,23 @@ def test_a_throw_built_directly_is_checked_before_simulating(field, value, name)
     batch = jax.tree_util.tree_map(lambda a: np.asarray(a)[None], bad)
     with pytest.raises(ParameterError, match=name):
         simulate_batch(batch)
+
+
+def test_coarse_dt_warns_and_its_answer_really_is_unconverged():
+    """Above ACCURATE_DT (1 ms) simulate() and simulate_batch() warn; the warning is earned: the default
+    throw at 5 ms makes a fraction of its bounces at the default 0.25 ms (measured: 1 against 18)."""
+    import warnings
+
+    from jaxskip import AccuracyWarning, simulate_batch, steps_for
+    from jaxskip.simulate import ACCURATE_DT
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", AccuracyWarning)  # none at the default or at the bound itself
+        fine = simulate()
+        simulate(config=SimConfig(dt=ACCURATE_DT, max_steps=steps_for(5.0, ACCURATE_DT), record=False))
+    coarse_config = SimConfig(dt=5e-3, max_steps=steps_for(5.0, 5e-3), record=False)
+    with pytest.warns(AccuracyWarning, match="dt = 5 ms .* unconverged"):
+        coarse = simulate(config=coarse_config)
+    assert fine.bounces >= 5 and coarse.bounces <= fine.bounces // 3, (fine.bounces, coarse.bounces)
+    with pytest.warns(AccuracyWarning, match="dt = 5 ms"):
+        simulate_batch(Throw.from_degrees(speed=[6.0, 8.0]), config=coarse_config)
