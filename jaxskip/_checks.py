@@ -74,6 +74,16 @@ def check_int(name: str, value, *, minimum: int = 1, maximum: int | None = None)
     return v
 
 
+def check_bool(name: str, value) -> bool:
+    """Return ``value`` if it is a bool (``True``/``False``, NumPy's too) or raise :class:`ParameterError`
+    (a string such as ``"False"`` would otherwise count as true)."""
+    import numpy as np
+
+    if not isinstance(value, (bool, np.bool_)):
+        raise ParameterError(f"{name} must be True or False, got {value!r}")
+    return bool(value)
+
+
 def check_choice(name: str, value, choices) -> str:
     """Return ``value`` if it is one of ``choices`` or raise :class:`ParameterError`."""
     if value not in choices:
@@ -90,6 +100,8 @@ def check_array(name: str, value, low: float, high: float, *, unit: str = "", lo
     """
     import numpy as np
 
+    if isinstance(value, (bool, np.bool_)) or np.asarray(value).dtype == np.bool_:
+        raise ParameterError(f"{name} must be a real number or array of them, got {value!r}")
     try:
         arr = np.asarray(value, dtype=np.float64)
     except (TypeError, ValueError):

@@ -44,9 +44,10 @@ class Contact:
     """Downrange position of the centre of mass at the contact's start [m]: its distance from the
     release point along the throw's heading."""
     tilt_start: float
-    """Tilt (face normal to vertical) at the start [rad]."""
+    """Tilt at the start [rad]: the unsigned angle between the face normal and the vertical, in [0, π]
+    (a throw tilted -10° reports +0.17 rad here)."""
     tilt_end: float
-    """Tilt at the end [rad]."""
+    """Tilt at the end [rad], as ``tilt_start`` (NaN if the stone never left the water)."""
     x_end: float
     """Downrange position of the centre of mass at the contact's end [m] (at the end of the run if
     the stone never left the water)."""
@@ -82,14 +83,20 @@ class ThrowResult:
     steps: int
     """Steps taken (flight jumps included)."""
     trajectory: dict
-    """Per-step arrays: ``time`` (N,) [s], ``position`` (N, 3) [m], ``orientation`` (N, 4),
-    ``wetted_area`` (N,) [m^2], ``force`` (N, 3) [N]."""
+    """Per-step arrays: ``time`` (N,) [s], ``position`` (N, 3) [m] (centre of mass), ``orientation``
+    (N, 4) [-] (unit quaternion (w, x, y, z), body to world), ``wetted_area`` (N,) [m^2], ``force``
+    (N, 3) [N] (water force on the stone)."""
     throw: Throw
+    """The throw simulated (SI, shape ())."""
     config: SimConfig
+    """The simulation settings used."""
     stone_name: str
+    """The stone as given: a built-in name, the ``.obj`` path, a mesh's ``name``, or ``"custom"`` for a
+    RigidStone."""
     mass: float
     """Stone mass [kg]."""
     water: WaterParams
+    """The water's constants used (C_l, C_f [-], ρ_w [kg/m^3], g [m/s^2])."""
     wall_time: float
     """Wall-clock time of the simulation, compile included [s]."""
     field: dict | None = None
@@ -226,6 +233,23 @@ def _default_throw(x64: bool) -> Throw:
     return Throw.from_degrees()
 
 
+def checked_config(config) -> SimConfig:
+    """``config`` (None: ``SimConfig()``) after its type check; warns if its ``dt`` is coarse
+    (:class:`jaxskip.simulate.AccuracyWarning`)."""
+    config = SimConfig() if config is None else config
+    if not isinstance(config, SimConfig):
+        raise ParameterError(f"config must be a jaxskip.SimConfig, got {type(config).__name__}")
+    warn_if_coarse(config, stacklevel=4)
+    return config
+
+
+def checked_water(water) -> WaterParams:
+    """``water`` after its type and range checks (:meth:`WaterParams.check`)."""
+    if not isinstance(water, WaterParams):
+        raise ParameterError(f"water must be a jaxskip.WaterParams (see jaxskip.water_params), got {type(water).__name__}")
+    return water.check()
+
+
 @functools.lru_cache(maxsize=8)
 def _default_water(law: str, x64: bool) -> WaterParams:
     """``water_params(law)``, made once per (law, precision)."""
@@ -280,18 +304,23 @@ def simulate(
     throw = _default_throw(x64) if throw is None else throw
     if not isinstance(throw, Throw):
         raise ParameterError(f"throw must be a jaxskip.Throw, got {type(throw).__name__}")
+    throw.check()
     if throw.shape != ():
         raise ParameterError(f"simulate() takes one throw; this one has batch shape {throw.shape} "
-                             "(use jax.vmap(rollout) for batches)")
-    throw.check()
-    config = SimConfig() if config is None else config
-    warn_if_coarse(config)
+                             "(use simulate_batch or jax.vmap(rollout) for batches)")
+    config = checked_config(config)
     chunk = check_int("chunk", chunk, minimum=1)
-    water = _default_water(config.force.law, x64) if water is None else water
+    water = _default_water(config.force.law, x64) if water is None else checked_water(water)
     rigid, name = resolve_stone(stone, mass=mass, density=density)
 
-    if water_field is not None and not isinstance(water_field, WaterGrid):
-        raise ParameterError(f"water_field must be a jaxskip.water.WaterGrid or None, got {water_field!r}")
+    if water_field is not None:
+        if not isinstance(water_field, WaterGrid):
+            raise ParameterError(f"water_field must be a jaxskip.water.WaterGrid or None, got {water_field!r}")
+        for mine, theirs, unit in (("gravity", "gravity", "m/s^2"), ("rho", "rho_water", "kg/m^3")):
+            a, b = float(getattr(water_field, mine)), float(np.asarray(getattr(water, theirs)))
+            if not math.isclose(a, b, rel_tol=1e-6):
+                raise ParameterError(f"water_field.{mine} ({a:g} {unit}) differs from water.{theirs} ({b:g} {unit}): "
+                                     "the stone and the water it moves must share them")
     compiled_before = _chunk_runner.cache_info().currsize
 
     def runner(n):

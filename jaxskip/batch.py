@@ -28,9 +28,9 @@ import jax.numpy as jnp
 import numpy as np
 
 from ._checks import ParameterError, check_int
-from .api import resolve_stone
+from .api import checked_config, checked_water, resolve_stone
 from .forces import WaterParams, water_params
-from .simulate import OUTCOMES, SimConfig, StoneState, Tracker, _new_tracker, _scan, initial_state, make_step, warn_if_coarse
+from .simulate import OUTCOMES, SimConfig, StoneState, Tracker, _new_tracker, _scan, initial_state, make_step
 from .throw import Throw
 
 
@@ -130,7 +130,8 @@ def simulate_batch(
     water : :class:`WaterParams`; default ``water_params(config.force.law)``.
     config : :class:`SimConfig` (its ``record`` is ignored: no trajectories are kept; a ``dt`` above 1 ms
         is valid but unconverged: an :class:`jaxskip.simulate.AccuracyWarning` says so).
-    lanes : throws advanced together (the vmapped batch); at most N are used. Default
+    lanes : throws advanced together (the vmapped batch); at most N, rounded up to a multiple of the
+        device count (so a few idle lanes may ride along). Default
         (``None``): :func:`default_lanes` of N and the device count — about N/64 lanes per
         device, a power of two in [8, 256]. With several local JAX devices (``import jaxskip``
         makes one CPU device per core) the lanes are sharded over all of them
@@ -152,11 +153,10 @@ def simulate_batch(
     t0 = time.perf_counter()
     if not isinstance(throws, Throw):
         raise ParameterError(f"throws must be a jaxskip.Throw, got {type(throws).__name__}")
+    throws.check()
     if len(throws.shape) != 1 or throws.shape[0] < 1:
         raise ParameterError(f"throws must have exactly one batch axis with at least one throw; got shape {throws.shape}")
-    throws.check()
-    config = SimConfig() if config is None else config
-    warn_if_coarse(config)
+    config = checked_config(config)
     sharding = _lane_sharding()
     n_devices = 1 if sharding is None else len(sharding.mesh.devices.flat)
     lanes = default_lanes(throws.shape[0], n_devices) if lanes is None else check_int(
@@ -165,7 +165,7 @@ def simulate_batch(
     chunk = check_int("chunk", chunk, minimum=1, maximum=config.max_steps)
     if config.max_steps % chunk:
         raise ParameterError(f"chunk must divide config.max_steps ({config.max_steps}); got {chunk}")
-    water = water_params(config.force.law) if water is None else water
+    water = water_params(config.force.law) if water is None else checked_water(water)
     rigid, _ = resolve_stone(stone, mass=mass, density=density)
 
     n = throws.shape[0]

@@ -14,7 +14,7 @@ import numpy as np
 
 from ._arrays import float_array
 from ._checks import ParameterError, check_positive, check_range
-from .mesh import TriMesh, mass_properties
+from .mesh import TriMesh, mass_properties, validate_mesh
 
 
 @jax.tree_util.register_dataclass
@@ -41,6 +41,7 @@ class RigidStone:
 
     @property
     def n_triangles(self) -> int:
+        """Number of triangles F of the mesh (``triangles`` is (F, 3, 3))."""
         return self.triangles.shape[-3]
 
 
@@ -92,6 +93,7 @@ def rigid_stone(mesh: TriMesh, *, density: float | None = None, mass: float | No
         check_range("density", density, lo, hi, unit="kg/m^3 (cork to osmium)")
     if mass is not None:
         check_positive("mass", mass, unit="kg")
+    validate_mesh(mesh.vertices, mesh.faces, name=mesh.name)  # closed, outward, no degenerate triangle
     props = mass_properties(mesh, density=density, mass=mass)
     if mass is not None:
         volume = float(props.volume)

@@ -51,7 +51,7 @@ import jax.numpy as jnp
 
 from . import clipping, quaternion
 from ._arrays import face_sum, float_array
-from ._checks import ParameterError, check_choice, check_positive, check_range, check_real
+from ._checks import ParameterError, check_bool, check_choice, check_positive, check_range
 
 LAWS = ("seed", "bocquet")
 FACES = ("leading", "all")
@@ -85,6 +85,7 @@ class ForceModel:
         check_choice("law", self.law, LAWS)
         check_choice("faces", self.faces, FACES)
         check_choice("velocity", self.velocity, VELOCITIES)
+        check_bool("normalize_lift", self.normalize_lift)
         if self.sharpness is not None:
             object.__setattr__(self, "sharpness", check_positive("sharpness", self.sharpness, unit="1/m"))
 
@@ -95,13 +96,25 @@ class WaterParams:
     """Traced physical constants of the water (pytree leaves: a new value does not recompile)."""
 
     c_lift: jax.Array
-    """Lift coefficient :math:`C_l` [-]."""
+    """() lift coefficient :math:`C_l` [-], in [0, 10]."""
     c_friction: jax.Array
-    """Drag / friction coefficient :math:`C_f` [-]."""
+    """() drag / friction coefficient :math:`C_f` [-], in [0, 10]."""
     rho_water: jax.Array
-    """Water density :math:`\\rho_w` [kg/m^3]."""
+    """() water density :math:`\\rho_w` [kg/m^3], in (0, 20000]."""
     gravity: jax.Array
-    """Gravitational acceleration :math:`g` [m/s^2], acting along :math:`-z`."""
+    """() gravitational acceleration :math:`g` [m/s^2], in (0, 100], acting along :math:`-z`."""
+
+    def check(self) -> "WaterParams":
+        """Check concrete values as :func:`water_params` does (for a ``WaterParams(...)`` built directly);
+        returns it unchanged. :func:`jaxskip.simulate` and :func:`jaxskip.simulate_batch` call it."""
+        import numpy as np
+
+        for name in ("c_lift", "c_friction", "rho_water", "gravity"):
+            if np.shape(getattr(self, name)) != ():
+                raise ParameterError(f"{name} must be a scalar, got shape {np.shape(getattr(self, name))}")
+        _check_constants(float(np.asarray(self.c_lift)), float(np.asarray(self.c_friction)),
+                         float(np.asarray(self.rho_water)), float(np.asarray(self.gravity)))
+        return self
 
 
 # Calibrated defaults, per law. Evidence (README "Calibration"): with Bocquet's law,
@@ -144,15 +157,18 @@ def water_params(
     """
     check_choice("law", law, LAWS)
     defaults = DEFAULT_COEFFICIENTS[law]
-    cl = defaults["c_lift"] if c_lift is None else check_range("c_lift", c_lift, 0.0, COEFFICIENT_MAX)
-    cf = defaults["c_friction"] if c_friction is None else check_range("c_friction", c_friction, 0.0, COEFFICIENT_MAX)
+    cl = defaults["c_lift"] if c_lift is None else c_lift
+    cf = defaults["c_friction"] if c_friction is None else c_friction
     f = float_array  # ready device scalars: no compile on a first call
-    return WaterParams(
-        c_lift=f(cl),
-        c_friction=f(cf),
-        rho_water=f(check_range("rho_water", rho_water, 0.0, 20000.0, unit="kg/m^3", low_open=True)),
-        gravity=f(check_range("gravity", gravity, 0.0, 100.0, unit="m/s^2", low_open=True)),
-    )
+    return WaterParams(*(f(v) for v in _check_constants(cl, cf, rho_water, gravity)))
+
+
+def _check_constants(c_lift, c_friction, rho_water, gravity) -> tuple:
+    """The water's constants checked against their ranges (floats, in :class:`WaterParams`' order)."""
+    return (check_range("c_lift", c_lift, 0.0, COEFFICIENT_MAX),
+            check_range("c_friction", c_friction, 0.0, COEFFICIENT_MAX),
+            check_range("rho_water", rho_water, 0.0, 20000.0, unit="kg/m^3", low_open=True),
+            check_range("gravity", gravity, 0.0, 100.0, unit="m/s^2", low_open=True))
 
 
 def _safe_norm(v):

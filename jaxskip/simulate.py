@@ -49,7 +49,7 @@ import numpy as np
 
 from . import quaternion as quat
 from ._arrays import face_max, face_min
-from ._checks import check_choice, check_int, check_positive, check_range
+from ._checks import ParameterError, check_bool, check_choice, check_int, check_positive, check_range
 from .body import RigidStone
 from .forces import (ForceModel, WaterParams, body_total_force, body_triangle_forces, body_water_load, flat_surface,
                      vertex_heights)
@@ -76,13 +76,13 @@ class SimConfig:
     unconverged: :func:`jaxskip.simulate` and :func:`jaxskip.simulate_batch` then warn
     (:class:`AccuracyWarning`)."""
     duration: float = 5.0
-    """Simulated time limit [s]."""
+    """Simulated time limit [s], > 0."""
     max_steps: int = 20000
     """Scan length: steps available for contacts and flights (outcome ``step_limit`` if too few).
     The default is :func:`steps_for` of the default ``duration`` and ``dt``: a stone may stay in the
     water for the whole ``duration`` and still end by ``time_limit``, not ``step_limit`` (12000
     until session 14 cut 0.2 % of the human box short: fast, flat throws planing for over 3 s).
-    Raise it with ``duration`` or a smaller ``dt`` (``steps_for`` gives the number)."""
+    Raise it with ``duration`` or a smaller ``dt`` (``steps_for`` gives the number). In [1, 10^7]."""
     integrator: str = "euler"
     """``"euler"`` (semi-implicit, gravity exact) or ``"rk4"``."""
     attitude: str = "free"
@@ -90,23 +90,23 @@ class SimConfig:
     flight: str = "jump"
     """``"jump"``: conservative-advancement steps through the air; ``"step"``: fixed ``dt`` everywhere."""
     max_flight_step: float = 0.02
-    """Longest step through the air [s] (bounds the free-rotation error of a jump)."""
+    """Longest step through the air [s] (bounds the free-rotation error of a jump), >= ``dt``."""
     force: ForceModel = ForceModel()
     """The water-force model (law, loaded faces, velocity, lift normalisation, smoothing)."""
     max_contacts: int = 64
-    """Contacts logged in detail (more are still counted)."""
+    """Contacts logged in detail (more are still counted), in [1, 10^5]."""
     bounce_clearance: float = 1e-3
-    """A contact ends in a bounce once the lowest point is this far above the water [m]."""
+    """A contact ends in a bounce once the lowest point is this far above the water [m], > 0."""
     stop_speed: float = 0.05
-    """Below this speed [m/s] in the water the stone counts as stopped."""
+    """Below this speed [m/s] (> 0) in the water the stone counts as stopped."""
     record: bool = True
-    """Return per-step records (time, position, attitude, wetted area); off for big batches."""
+    """Return per-step records (time, position, attitude, wetted area); off for big batches (a bool)."""
     segment: int = 50
     """Steps per segment. The scan runs in segments of this many steps; a segment that begins
     with the stone out of play is skipped whole, in the forward and the reverse pass, so a throw
     costs about its own steps rather than ``max_steps`` (a single throw, or a batch once every
     throw in it is out of play; under ``vmap`` a segment runs while any throw is in play).
-    A segment longer than ``max_steps`` is capped at ``max_steps``."""
+    A segment longer than ``max_steps`` is capped at ``max_steps``. In [1, 10^7]."""
     checkpoint: int = 1
     """Reverse-mode memory/time trade-off (no effect on a forward run). 1 (default): nested
     rematerialisation — each segment is checkpointed and, inside it, each step: only one carry
@@ -121,11 +121,15 @@ class SimConfig:
         check_choice("attitude", self.attitude, ATTITUDES)
         check_choice("flight", self.flight, FLIGHTS)
         check_positive("max_flight_step", self.max_flight_step, unit="s")
+        if self.max_flight_step < self.dt:
+            raise ParameterError(f"max_flight_step must be >= dt ({self.dt:g} s), got {self.max_flight_step:g} s "
+                                 "(every step would shrink to it)")
         check_int("max_contacts", self.max_contacts, minimum=1, maximum=100_000)
         check_positive("bounce_clearance", self.bounce_clearance, unit="m")
         check_positive("stop_speed", self.stop_speed, unit="m/s")
         check_int("segment", self.segment, minimum=1, maximum=10_000_000)
         check_int("checkpoint", self.checkpoint, minimum=0, maximum=1)
+        check_bool("record", self.record)
         if not isinstance(self.force, ForceModel):
             raise TypeError("force must be a jaxskip.forces.ForceModel")
 
@@ -257,7 +261,7 @@ class Tracker:
 
     @property
     def tilt_leave(self) -> jax.Array:
-        """(...) tilt at ``t_leave`` [rad]."""
+        """(...) tilt at ``t_leave`` [rad] (unsigned: the face normal's angle to the vertical, in [0, π])."""
         return self.leave[..., 1]
 
     @property
@@ -282,7 +286,7 @@ class Tracker:
 
     @property
     def tilt_start(self) -> jax.Array:
-        """(..., K) tilt at contact start [rad]."""
+        """(..., K) tilt at contact start [rad] (unsigned: the face normal's angle to the vertical, in [0, π])."""
         return self.log[..., 4]
 
     @property
@@ -292,7 +296,7 @@ class Tracker:
 
     @property
     def tilt_end(self) -> jax.Array:
-        """(..., K) tilt at contact end [rad]."""
+        """(..., K) tilt at contact end [rad] (unsigned, as ``tilt_start``)."""
         return self.log[..., 6]
 
     @property
@@ -326,7 +330,7 @@ class Record:
     position: jax.Array
     """(3,) [m]"""
     orientation: jax.Array
-    """(4,) quaternion"""
+    """(4,) unit quaternion (w, x, y, z), body to world [-]"""
     wetted_area: jax.Array
     """() immersed area [m^2]"""
     force: jax.Array
@@ -348,7 +352,10 @@ def _tilt_from_matrix(R):
 
 
 def initial_state(throw: Throw, stone: RigidStone) -> StoneState:
-    """State at release: lowest point ``throw.height`` above flat water, velocity and spin from the throw."""
+    """State at release: lowest point ``throw.height`` above flat water, velocity and spin from the throw.
+
+    ``throw``: one throw (shape ``()``; ``vmap`` for batches), already checked (:meth:`Throw.check`:
+    this pure function does not validate, so that it can be traced)."""
     q = attitude(throw.tilt, throw.heading)
     R = quat.to_matrix(q)
     lowest = jnp.min(quat.rotate(R, stone.triangles)[..., 2])
@@ -778,6 +785,11 @@ def rollout(config: SimConfig, throw: Throw, stone: RigidStone, water: WaterPara
     :class:`Tracker` and, if ``config.record``, a :class:`Record` with a leading
     axis of ``max_steps`` (else ``None``). A stone still in play when the steps
     run out gets outcome ``step_limit``.
+
+    ``throw`` is one throw (every field of shape ``()``; ``jax.vmap`` over a batch) and is not
+    validated here, so that the function can be traced: check concrete throws first
+    (:meth:`Throw.check`, as :func:`jaxskip.simulate` and :func:`jaxskip.simulate_batch` do),
+    and build ``water`` with :func:`jaxskip.water_params`.
     """
     state = initial_state(throw, stone)
     carry = (state, _new_tracker(config.max_contacts, state.position.dtype))

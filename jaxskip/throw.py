@@ -22,7 +22,7 @@ import numpy as np
 
 from . import quaternion
 from ._arrays import float_array
-from ._checks import check_array
+from ._checks import ParameterError, check_array
 
 MAX_SPEED = 100.0
 """Largest accepted throw speed [m/s] (far beyond any human or catapult)."""
@@ -35,6 +35,8 @@ MAX_SPIN = 2 * math.pi * 500.0
 class Throw:
     """Initial conditions of a throw (pytree: every field is traced, so new values never recompile).
 
+    Every field has the same shape: ``()`` for one throw, ``(N,)`` (or more axes) for a batch.
+
     Examples
     --------
     >>> t = Throw.from_degrees(speed=5.0, tilt=20.0, attack=10.0, spin=10.0)  # m/s, deg, deg, rev/s
@@ -43,22 +45,26 @@ class Throw:
     """
 
     speed: jax.Array
-    """() speed of the centre of mass [m/s], > 0."""
+    """() speed of the centre of mass [m/s], in (0, 100]."""
     tilt: jax.Array
     """() angle of the face to the water, leading edge up [rad], in (-π/2, π/2)."""
     attack: jax.Array
     """() angle of the velocity below the horizontal [rad], in [-π/2, π/2]."""
     spin: jax.Array
-    """() angular speed about the face normal [rad/s]; positive is counter-clockwise seen from above."""
+    """() angular speed about the face normal [rad/s], in [-1000π, 1000π] (±500 rev/s); positive is
+    counter-clockwise seen from above."""
     height: jax.Array
-    """() clearance of the stone's lowest point above the water at release [m], >= 0."""
+    """() clearance of the stone's lowest point above the water at release [m], in [0, 100]."""
     heading: jax.Array
-    """() direction of travel, counter-clockwise from +x [rad]."""
+    """() direction of travel, counter-clockwise from +x [rad], in [-1e6, 1e6]."""
 
     @classmethod
     def create(cls, speed=8.0, tilt=math.radians(20.0), attack=math.radians(5.0), spin=2 * math.pi * 20.0,
                height=0.001, heading=0.0) -> "Throw":
         """Validated constructor in SI units (m/s, rad, rad/s, m); raises :class:`ParameterError`.
+
+        Ranges: speed (0, 100] m/s, tilt (-π/2, π/2), attack [-π/2, π/2], spin ±1000π rad/s, height
+        [0, 100] m, heading ±1e6 rad.
 
         Each argument may be a scalar or an array; they are broadcast together, so
         ``Throw.create(tilt=np.linspace(0.1, 0.8, 64))`` is a batch of 64 throws for ``vmap``.
@@ -70,6 +76,9 @@ class Throw:
     @classmethod
     def from_degrees(cls, speed=8.0, tilt=20.0, attack=5.0, spin=20.0, height=0.001, heading=0.0) -> "Throw":
         """Build a throw from user units: speed [m/s], angles [deg], spin [rev/s], height [m].
+
+        Ranges: speed (0, 100] m/s, tilt (-90, 90) deg, attack [-90, 90] deg, spin [-500, 500] rev/s,
+        height [0, 100] m, heading ±1e6 deg.
 
         Scalars or arrays (broadcast together, as in :meth:`create`).
         """
@@ -85,6 +94,11 @@ class Throw:
         as :meth:`create` does; returns it unchanged. Needs concrete values: :func:`jaxskip.simulate`
         and :func:`jaxskip.simulate_batch` call it before tracing."""
         values = {f.name: np.asarray(getattr(self, f.name)) for f in dataclasses.fields(self)}
+        shapes = {k: v.shape for k, v in values.items()}
+        if len(set(shapes.values())) > 1:
+            raise ParameterError("every field of a Throw must have the same shape, got "
+                                 + ", ".join(f"{k} {v}" for k, v in shapes.items())
+                                 + " (Throw.create and Throw.from_degrees broadcast them for you)")
         # Stored in float32 (x64 off), a bound that :meth:`create` accepted may round one ulp outside it.
         eps = max((np.finfo(v.dtype).eps for v in values.values() if np.issubdtype(v.dtype, np.floating)), default=0.0)
         _checked(**values, slack=float(eps) if eps > np.finfo(np.float64).eps else 0.0)
@@ -93,7 +107,7 @@ class Throw:
     @property
     def shape(self) -> tuple:
         """Batch shape of the throw (``()`` for a single throw)."""
-        return tuple(self.speed.shape)
+        return tuple(np.shape(self.speed))
 
 
 def _checked(speed, tilt, attack, spin, height, heading, slack: float = 0.0) -> dict:

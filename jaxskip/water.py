@@ -111,9 +111,11 @@ from __future__ import annotations
 import dataclasses
 import functools
 import math
+import numbers
 
 import jax
 import jax.numpy as jnp
+import numpy as np
 
 from ._checks import ParameterError, check_choice, check_int, check_positive, check_range, check_real
 
@@ -128,7 +130,7 @@ class WaterGrid:
     """Static (hashable) description of a height-field grid. SI units."""
 
     shape: tuple[int, int] = (128, 128)
-    """Columns ``(nx, ny)``, each at least 3."""
+    """Columns ``(nx, ny)``, each at least 3, at most 4096² in all (integers; NumPy's too)."""
     spacing: float = 0.01
     """Column side :math:`l` [m] (also the axis pipe length)."""
     depth: float = 0.1
@@ -140,29 +142,32 @@ class WaterGrid:
     rho: float = 1000.0
     """Water density ρ [kg/m³] (converts external pressure to head)."""
     dt: float | None = None
-    """Water time step [s]; ``None``: ``cfl`` times :func:`stable_dt`."""
+    """Water time step [s], in (0, :func:`stable_dt`]; ``None``: ``cfl`` times :func:`stable_dt`."""
     cfl: float = 0.5
     """Fraction of the stability bound used when ``dt`` is None, in (0, 1]."""
     clamp: str = "reference"
     """Non-negative volume clamp: ``"reference"``, ``"zero"`` or ``"smooth"``."""
     sharpness: float = 50.0
-    """Exponent k of the smooth clamp (larger: closer to the reference)."""
+    """Exponent k of the smooth clamp [-], in [1, 10^6] (larger: closer to the reference)."""
     clamp_iterations: int = 4
-    """Relaxation passes of the reference and smooth clamps (each pass is safe; more: less over-scaling)."""
+    """Relaxation passes of the reference and smooth clamps, in [0, 100] (each pass is safe; more: less
+    over-scaling)."""
     damping: float = 0.0
-    """Linear damping rate of pipe flows [1/s] (0: none)."""
+    """Linear damping rate of pipe flows [1/s], in [0, 10^6] (0: none)."""
     boundary: str = "closed"
     """``"closed"`` (reflecting) or ``"sponge"`` (absorbing border)."""
     sponge_width: int = 8
-    """Sponge border width [columns] (``boundary="sponge"``; at most half the smaller side)."""
+    """Sponge border width [columns], in [1, 10^4] (``boundary="sponge"``; at most half the smaller side)."""
     sponge_rate: float = 50.0
-    """Relaxation rate at the outer edge of the sponge [1/s]."""
+    """Relaxation rate at the outer edge of the sponge [1/s], > 0."""
 
     def __post_init__(self):
         shape = self.shape
-        if (not isinstance(shape, tuple) or len(shape) != 2
-                or not all(isinstance(n, int) and not isinstance(n, bool) for n in shape)):
+        if (not isinstance(shape, (tuple, list)) or len(shape) != 2
+                or not all(isinstance(n, numbers.Integral) and not isinstance(n, (bool, np.bool_)) for n in shape)):
             raise ParameterError(f"shape must be a tuple of two integers (nx, ny), got {shape!r}")
+        shape = (int(shape[0]), int(shape[1]))
+        object.__setattr__(self, "shape", shape)  # plain ints: hashable and equal to the same grid given as ints
         if min(shape) < 3:
             raise ParameterError(f"shape must have at least 3 columns per side, got {shape}")
         if shape[0] * shape[1] > MAX_COLUMNS:
@@ -255,10 +260,16 @@ class WaterState:
 
 
 def still_water(grid: WaterGrid, height=None, dtype=None) -> WaterState:
-    """Water at rest: all flows zero; heights ``depth`` (or the given ``(nx, ny)`` array, in m)."""
+    """Water at rest: all flows zero; heights ``depth`` (or the given ``(nx, ny)`` array of column heights
+    [m], finite and >= 0)."""
     nx, ny = grid.shape
     if height is None:
         height = jnp.full(grid.shape, grid.depth, dtype=dtype or jnp.result_type(float))
+    elif not isinstance(height, jax.core.Tracer):
+        h = np.asarray(height, dtype=np.float64)
+        if h.shape == grid.shape and not (np.all(np.isfinite(h)) and np.all(h >= 0.0)):
+            bad = float(h[~(np.isfinite(h) & (h >= 0.0))].flat[0])
+            raise ParameterError(f"height must be finite and >= 0 m in every column, got {bad!r}")
     height = jnp.asarray(height, dtype=dtype)
     if height.shape != grid.shape:
         raise ParameterError(f"height must have the grid's shape {grid.shape}, got {height.shape}")
@@ -579,10 +590,16 @@ def _water_runner(grid: WaterGrid, steps: int):
 def run_water(grid: WaterGrid, state: WaterState, steps: int, pressure=None):
     """Advance ``steps`` water steps under a constant ``pressure`` [Pa] (default none), jitted scan."""
     check_int("steps", steps, minimum=0, maximum=100_000_000)
+    if not isinstance(state, WaterState):
+        raise ParameterError(f"state must be a jaxskip.WaterState (see still_water), got {type(state).__name__}")
+    if tuple(state.height.shape) != grid.shape:
+        raise ParameterError(f"state.height must have the grid's shape {grid.shape}, got {tuple(state.height.shape)}")
     dtype = state.height.dtype
     p = jnp.zeros(grid.shape, dtype) if pressure is None else jnp.asarray(pressure, dtype=dtype)
     if p.shape != grid.shape:
         raise ParameterError(f"pressure must have the grid's shape {grid.shape} (Pa per column), got {p.shape}")
+    if not isinstance(p, jax.core.Tracer) and not bool(np.all(np.isfinite(np.asarray(p)))):
+        raise ParameterError("pressure must be finite in every column [Pa]")
     # (asarray with the dtype makes it strongly typed: a weakly typed pressure would compile again)
     return _water_runner(grid, steps)(state, p)
 
@@ -601,6 +618,8 @@ def height_at(grid: WaterGrid, height, x, y, origin=None):
     Returns ``height - depth`` interpolated, with the shape of ``x``.
     """
     nx, ny = grid.shape
+    if tuple(jnp.shape(height)) != grid.shape:
+        raise ParameterError(f"height must have the grid's shape {grid.shape}, got {tuple(jnp.shape(height))}")
     ox, oy = grid.origin if origin is None else (origin[0], origin[1])
     fx = jnp.clip((x - ox) / grid.spacing, 0.0, nx - 1.0)
     fy = jnp.clip((y - oy) / grid.spacing, 0.0, ny - 1.0)

@@ -18,7 +18,7 @@ import jax.numpy as jnp
 import numpy as np
 
 from jaxskip import Throw
-from jaxskip._checks import ParameterError
+from jaxskip._checks import ParameterError, check_real
 
 #: Physical limits of each throw parameter in user units: (low, high, unit).
 LIMITS = {
@@ -62,16 +62,37 @@ class Box:
     """
 
     searched: tuple
-    """((name, low, high), ...) in :data:`PARAMETERS` order."""
+    """((name, low, high), ...) in :data:`PARAMETERS` order, user units, each inside :data:`LIMITS`."""
     held: tuple
-    """((name, value), ...) for the parameters kept fixed."""
+    """((name, value), ...) for the parameters kept fixed, user units, each inside :data:`LIMITS`."""
+
+    def __post_init__(self):
+        seen = []
+        for entry in self.searched:
+            if not (isinstance(entry, tuple) and len(entry) == 3 and entry[0] in LIMITS):
+                raise ParameterError(f"Box.searched entries must be (name, low, high) with a name from "
+                                     f"{', '.join(PARAMETERS)}; got {entry!r} (build boxes with make_box)")
+            low, high, unit = LIMITS[entry[0]]
+            check_interval(entry[0], entry[1:], low, high, unit=unit)
+            seen.append(entry[0])
+        for entry in self.held:
+            if not (isinstance(entry, tuple) and len(entry) == 2 and entry[0] in LIMITS):
+                raise ParameterError(f"Box.held entries must be (name, value) with a name from "
+                                     f"{', '.join(PARAMETERS)}; got {entry!r} (build boxes with make_box)")
+            _held_value(entry[0], entry[1])
+            seen.append(entry[0])
+        if not self.searched or sorted(seen) != sorted(PARAMETERS):
+            raise ParameterError(f"a Box must search at least one of {', '.join(PARAMETERS)} and give each exactly "
+                                 f"once (searched or held); got {seen} (build boxes with make_box)")
 
     @property
     def names(self) -> tuple:
+        """Names of the searched parameters, in the order of ``u``'s last axis."""
         return tuple(n for n, _, _ in self.searched)
 
     def to_throw(self, u) -> Throw:
-        """Unconstrained ``u`` (..., P) -> a :class:`Throw` inside the box (SI)."""
+        """Unconstrained ``u`` (..., P) -> a :class:`Throw` inside the box (SI), released 1 mm above the
+        water (``height``) heading along +x, as every search throws."""
         values = dict(self.held)
         for i, (name, lo, hi) in enumerate(self.searched):
             values[name] = lo + (hi - lo) * jax.nn.sigmoid(u[..., i])
@@ -86,10 +107,18 @@ class Box:
         return {name: lo + (hi - lo) / (1.0 + np.exp(-u[..., i])) for i, (name, lo, hi) in enumerate(self.searched)}
 
     def from_user(self, values: dict) -> np.ndarray:
-        """User-unit values of the searched parameters -> unconstrained ``u`` (..., P)."""
+        """User-unit values of the searched parameters (inside the box) -> unconstrained ``u`` (..., P).
+
+        A value on a bound maps to ±13.8 (the logit of 1e-6 from it); one outside the box, or NaN, is
+        refused."""
         cols = []
         for name, lo, hi in self.searched:
-            f = np.clip((np.asarray(values[name], dtype=float) - lo) / (hi - lo), 1e-6, 1 - 1e-6)
+            v = np.asarray(values[name], dtype=float)
+            tol = 1e-9 * (hi - lo)
+            if not np.all((v >= lo - tol) & (v <= hi + tol)):
+                bad = float(v[~((v >= lo - tol) & (v <= hi + tol))].flat[0]) if v.ndim else float(v)
+                raise ParameterError(f"{name} must lie within the box [{lo:g}, {hi:g}], got {bad!r}")
+            f = np.clip((v - lo) / (hi - lo), 1e-6, 1 - 1e-6)
             cols.append(np.log(f / (1.0 - f)))
         return np.stack(cols, axis=-1)
 
@@ -130,8 +159,14 @@ def make_box(searched=None, held=None) -> Box:
             lo, hi = check_interval(name, searched[name], low, high, unit=unit)
             out_s.append((name, lo, hi))
         else:
-            v = float(held.get(name, defaults[name]))
-            if not (math.isfinite(v) and low <= v <= high):
-                raise ParameterError(f"{name} must lie within [{low}, {high}] {unit}, got {v}")
-            out_h.append((name, v))
+            out_h.append((name, _held_value(name, held.get(name, defaults[name]))))
     return Box(tuple(out_s), tuple(out_h))
+
+
+def _held_value(name: str, value) -> float:
+    """A held parameter's value, checked against :data:`LIMITS` (user units)."""
+    low, high, unit = LIMITS[name]
+    v = check_real(name, value)
+    if not low <= v <= high:
+        raise ParameterError(f"{name} must lie within [{low:g}, {high:g}] {unit}, got {v:g}")
+    return v

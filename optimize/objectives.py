@@ -38,12 +38,20 @@ import jax
 import jax.numpy as jnp
 
 from jaxskip import RigidStone, SimConfig, Throw, WaterParams
+from jaxskip._checks import ParameterError, check_positive
 from jaxskip.simulate import _new_tracker, _scan, initial_state, make_step, rollout
 
 #: Default clearance level [m]: the tracker's ``SimConfig.bounce_clearance``.
 CLEARANCE = 1e-3
 #: Default sigmoid width [m] of the soft indicator "lowest point above the clearance level".
 WIDTH = 2e-4
+
+
+def _check_knobs(clearance, width) -> None:
+    """``clearance`` and ``width`` [m] must be > 0 (checked when concrete; traced values pass through)."""
+    for name, v in (("clearance", clearance), ("width", width)):
+        if not isinstance(v, jax.core.Tracer):
+            check_positive(name, v, unit="m")
 
 
 def soft_bounce_count(records, clearance: float = CLEARANCE, width: float = WIDTH):
@@ -54,6 +62,7 @@ def soft_bounce_count(records, clearance: float = CLEARANCE, width: float = WIDT
     tracker's ``bounce_clearance``); ``width`` [m]: the sigmoid's width (the sharpening knob).
     Steps taken out of play repeat the time and are ignored.
     """
+    _check_knobs(clearance, width)
     t, gap = records.time, records.gap
     s = jax.nn.sigmoid((gap - clearance) / width)
     live_next = t[1:] > t[:-1]  # the next record is a real step, not a frozen repeat
@@ -68,6 +77,7 @@ def soft_bounce_rollout(config: SimConfig, throw: Throw, stone: RigidStone, wate
     live step adds :math:`\max(0, s_k - s_{k-1})` of the gap at its start; steps out of play add
     nothing. ``config.record`` is ignored (nothing is stacked). Pure, jit/vmap/grad-able.
     """
+    _check_knobs(clearance, width)
     inner = make_step(dataclasses.replace(config, record=True))
 
     def step(carry, stone, water):
@@ -86,7 +96,10 @@ def soft_bounce_rollout(config: SimConfig, throw: Throw, stone: RigidStone, wate
 
 
 def distance(state, throw: Throw, stone: RigidStone):
-    """Horizontal distance [m] from release to the final position (differentiable)."""
+    """Horizontal distance [m] from release to the final position (differentiable).
+
+    ``state``: a :class:`jaxskip.StoneState` (position (3,) [m]) of the ``throw`` (one :class:`Throw`,
+    shape ()) of ``stone``; under ``vmap`` both carry the batch axis. Returns a scalar [m]."""
     start = initial_state(throw, stone).position
     d = state.position[:2] - start[:2]
     return jnp.sqrt(jnp.sum(d * d) + 1e-30)
@@ -98,7 +111,8 @@ def make_objective(kind: str, config: SimConfig, stone: RigidStone, water: Water
     Pure and differentiable; nothing per step is stored (``config.record`` is ignored).
     """
     if kind not in ("bounces", "distance"):
-        raise ValueError(f"objective must be 'bounces' or 'distance', got {kind!r}")
+        raise ParameterError(f"objective must be 'bounces' or 'distance', got {kind!r}")
+    _check_knobs(config.bounce_clearance, width)
     config = dataclasses.replace(config, record=False)
 
     def f(throw: Throw):

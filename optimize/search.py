@@ -171,6 +171,16 @@ class _Best:
             self.bounces, self.distance = int(np.ravel(counts)[i]), float(np.ravel(distances)[i])
 
 
+def _as_box(box) -> Box:
+    """``box`` (None: the human box) checked to be a :class:`~optimize.bounds.Box`."""
+    if box is None:
+        return make_box()
+    if not isinstance(box, Box):
+        raise ParameterError(f"box must be an optimize.Box (make_box({{name: (low, high)}}, {{name: value}})), "
+                             f"got {type(box).__name__}")
+    return box
+
+
 def _random_points(box: Box, n: int, rng) -> dict:
     return {name: rng.uniform(lo, hi, n) for name, lo, hi in box.searched}
 
@@ -207,7 +217,7 @@ def gradient_search(box: Box | None = None, *, objective: str = "bounces", stone
     ``water``: the water's constants (:func:`jaxskip.water_params`; default: the force law's).
     """
     t0 = time.perf_counter()
-    box = make_box() if box is None else box
+    box = _as_box(box)
     config = SimConfig() if config is None else config
     objective = _check_objective(objective)
     starts = check_int("starts", starts, minimum=1, maximum=4096)
@@ -349,6 +359,7 @@ def local_search(box: Box, centres: dict, *, throws: int = 256, scale: float = 0
     (4, True)
     """
     t0 = time.perf_counter()
+    box = _as_box(box)
     config = SimConfig() if config is None else config
     objective = _check_objective(objective)
     n = check_int("throws", throws, minimum=1, maximum=100_000_000)
@@ -415,7 +426,7 @@ def perturbation_search(box: Box | None = None, *, stone="paper", config: SimCon
     :func:`gradient_search`.
     """
     t0 = time.perf_counter()
-    box = make_box() if box is None else box
+    box = _as_box(box)
     config = SimConfig() if config is None else config
     starts = check_int("starts", starts, minimum=1, maximum=4096)
     iterations = check_int("iterations", iterations, minimum=1, maximum=100_000)
@@ -462,8 +473,14 @@ def perturbation_search(box: Box | None = None, *, stone="paper", config: SimCon
 
 
 def grid_points(box: Box, per_axis: int) -> dict:
-    """A regular grid with ``per_axis`` points along every searched parameter (user units)."""
+    """A regular grid with ``per_axis`` points along every searched parameter (user units); at most
+    10^8 points in all."""
+    box = _as_box(box)
     per_axis = check_int("per_axis", per_axis, minimum=2, maximum=10_000)
+    if per_axis ** len(box.searched) > 100_000_000:
+        top = int(100_000_000 ** (1.0 / len(box.searched)) + 1e-9)
+        raise ParameterError(f"per_axis must be at most {top} for {len(box.searched)} searched parameters "
+                             f"(at most 10^8 grid points), got {per_axis}")
     axes = [np.linspace(lo, hi, per_axis) for _, lo, hi in box.searched]
     mesh = np.meshgrid(*axes, indexing="ij")
     return {name: m.ravel() for (name, _, _), m in zip(box.searched, mesh)}
@@ -485,7 +502,7 @@ def grid_search(box: Box | None = None, *, per_axis: int = 10, stone="paper", co
                 lanes: int | None = None, water: WaterParams | None = None, progress: bool = False) -> SearchResult:
     """Exhaustive search: every point of a regular grid simulated exactly (``per_axis`` ** P throws);
     ``water`` as in :func:`gradient_search`."""
-    box = make_box() if box is None else box
+    box = _as_box(box)
     config = SimConfig() if config is None else config
     return _exhaustive("grid", box, grid_points(box, per_axis), stone, config, lanes, progress, water)
 
@@ -495,7 +512,7 @@ def random_search(box: Box | None = None, *, throws: int = 1000, stone="paper", 
                   progress: bool = False) -> SearchResult:
     """Random search: ``throws`` uniform random points of the box simulated exactly; ``water`` as in
     :func:`gradient_search`."""
-    box = make_box() if box is None else box
+    box = _as_box(box)
     config = SimConfig() if config is None else config
     n = check_int("throws", throws, minimum=1, maximum=100_000_000)
     return _exhaustive("random", box, _random_points(box, n, np.random.default_rng(seed)), stone, config, lanes,

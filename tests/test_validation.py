@@ -170,3 +170,73 @@ def test_every_corner_of_the_valid_throw_box_gives_finite_answers():
     assert np.all(np.isfinite(np.asarray(r.state.velocity))) and np.all(np.isfinite(np.asarray(r.state.orientation)))
     assert set(r.outcome_names) <= {"sank", "stopped", "flipped", "time_limit"}
     assert r.distance.max() < 100.0 * 5.0 + 1.0  # nothing travels faster than it was thrown for the 5 s allowed
+
+
+def _open_paper_mesh():
+    from jaxskip import TriMesh
+
+    m = paper_stone()
+    return TriMesh(m.vertices, m.faces[1:], name="open paper")  # one face dropped: not closed
+
+
+def _bad_inputs():
+    import numpy as np
+
+    from jaxskip import WaterGrid, WaterParams, height_at, simulate_batch
+    from jaxskip.coupled import default_window
+    from optimize import grid_search, make_box
+    from optimize.bounds import Box
+    from optimize.objectives import make_objective
+
+    one = Throw.from_degrees()
+    return [
+        # the water's constants built by hand are checked like water_params()'s
+        (lambda: simulate(water=WaterParams(1.0, 0.3, math.nan, 9.81)), r"rho_water must be finite and in \(0, 20000\]"),
+        (lambda: simulate(water=WaterParams(1.0, 0.3, 1000.0, -9.81)), r"gravity must be in \(0, 100\]"),
+        (lambda: simulate(water={"c_lift": 1.0}), "water must be a jaxskip.WaterParams"),
+        (lambda: simulate(config={"dt": 1e-4}), "config must be a jaxskip.SimConfig"),
+        (lambda: simulate_batch(Throw(*[np.ones(3)] * 2, *[np.ones(2)], *[np.ones(3)] * 3)),
+         r"every field of a Throw must have the same shape, got speed \(3,\), tilt \(3,\), attack \(2,\)"),
+        (lambda: simulate(water_field=dataclasses_replace(default_window(), gravity=3.7)),
+         r"water_field.gravity \(3.7 m/s\^2\) differs from water.gravity \(9.81"),
+        # an open mesh used to simulate with a wrong mass (0.118 against 0.121 kg)
+        (lambda: simulate(stone=_open_paper_mesh()), "open paper"),
+        (lambda: SimConfig(dt=1e-3, max_flight_step=1e-5), r"max_flight_step must be >= dt \(0.001 s\)"),
+        (lambda: SimConfig(record="no"), "record must be True or False, got 'no'"),
+        (lambda: ForceModel(normalize_lift="False"), "normalize_lift must be True or False"),
+        (lambda: Throw.create(speed=True), "speed must be a real number"),
+        (lambda: height_at(WaterGrid(shape=(32, 32)), np.zeros((8, 8)), 0.1, 0.1),
+         r"height must have the grid's shape \(32, 32\), got \(8, 8\)"),
+        (lambda: make_objective("bounces", SimConfig(), rigid_stone(paper_stone(), density=2650.0), water_params(),
+                                width=0.0), r"width must be > 0 m"),
+        (lambda: Box(searched=(("speed", -5.0, 500.0),), held=()), r"speed must lie within \[0.1, 50\] m/s"),
+        (lambda: make_box().from_user({"speed": [15.0], "tilt": [10.0], "attack": [1.0], "spin": [1.0]}),
+         r"speed must lie within the box \[3, 12\], got 15.0"),
+        (lambda: make_box({"speed": (3.0, 12.0)}, {"tilt": "steep"}), "tilt must be a real number"),
+        (lambda: grid_search(per_axis=1000), r"per_axis must be at most 100 for 4 searched parameters"),
+        (lambda: grid_search({"speed": (3.0, 12.0)}), "box must be an optimize.Box"),
+        (lambda: simulate(one, config=SimConfig(duration=-1.0)), "duration"),
+    ]
+
+
+def dataclasses_replace(obj, **changes):
+    import dataclasses
+
+    return dataclasses.replace(obj, **changes)
+
+
+@pytest.mark.parametrize("index", range(len(_bad_inputs())))
+def test_more_bad_inputs_are_refused_by_name_before_tracing(index):
+    """Each of these ran before (a NaN, a silent wrong answer, or an AttributeError / IndexError from deep
+    inside), found by an audit in session 16: now a ParameterError (or MeshError) names the parameter."""
+    from jaxskip import MeshError
+
+    call, message = _bad_inputs()[index]
+    with pytest.raises((ParameterError, MeshError), match=message):
+        call()
+
+
+def test_a_throw_of_plain_python_floats_simulates():
+    """Throw(...) built from Python floats (no arrays) used to fail on ``.shape``."""
+    r = simulate(Throw(8.0, math.radians(20.0), math.radians(5.0), 2 * math.pi * 20.0, 0.001, 0.0))
+    assert r.bounces == simulate().bounces
