@@ -74,7 +74,7 @@ def add_parsers(sub) -> None:
         "umin: the minimal speed for a bounce at each tilt (bisection, the tilts of a chunk batched); domain: bounce counts on a "
         "tilt x attack grid at one speed; merge FOLDER... --out DIR: join the folders of several shards (it "
         "takes no other flag but --json and --plot). Defaults: Clanet's aluminium disk, tilt held (high-spin "
-        "limit), 65 rev/s, attack 20 deg (physics.md section 4). The work is cut into chunks (default: about 8; "
+        "limit), 65 rev/s, attack 20 deg (docs/physics.md section 4). The work is cut into chunks (default: about 8; "
         "a domain chunk holds at least 256 grid points), each written to --out as it finishes: re-running resumes "
         "there, and --shard-index/--num-shards split the chunks between machines."))
     s.add_argument("kind", choices=KINDS + ("merge",))

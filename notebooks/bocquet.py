@@ -9,7 +9,7 @@
 #
 # Sources: L. Bocquet, *The physics of stone skipping*, Am. J. Phys. 71:150 (2003),
 # arXiv:physics/0210015; C. Clanet, F. Hersen, L. Bocquet, *Secrets of successful
-# stone-skipping*, Nature 427:29 (2004); the project's `shared/physics.md` §3–4.
+# stone-skipping*, Nature 427:29 (2004); the project's `docs/physics.md` §3–4.
 #
 # The full simulator (a triangle mesh, per-triangle lift and friction, `attitude="fixed"` = the
 # high-spin limit) is set beside Bocquet's reduced model (`jaxskip.bocquet`: a flat plate, the

@@ -8,7 +8,7 @@
 # # The magic angle: Clanet, Hersen & Bocquet's three figures
 #
 # Source: C. Clanet, F. Hersen, L. Bocquet, *Secrets of successful stone-skipping*, Nature 427:29
-# (2004); `shared/physics.md` §4. Their aluminium disk (R = 2.5 cm, 2.75 mm), a catapult at
+# (2004); `docs/physics.md` §4. Their aluminium disk (R = 2.5 cm, 2.75 mm), a catapult at
 # 65 rev/s, impact angle β = 20°: (a) the minimal speed for a bounce against tilt, lowest near
 # 20° (≈ 2.5 m/s there), none beyond ≈ 45° (here the model's minimum is also located between
 # grid points, by a finer sweep and a parabola); (b) the bounce domain in the (tilt, attack) plane at
