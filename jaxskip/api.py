@@ -290,6 +290,8 @@ def simulate(
     water_field : a :class:`jaxskip.water.WaterGrid` (e.g. :func:`jaxskip.coupled.default_window`):
         two-way coupled water in a window that follows the stone (:mod:`jaxskip.coupled`);
         ``result.field`` then holds the grid, the volume change and a snapshot per chunk.
+        The window is placed under the released stone (its ``origin`` is ignored), and its
+        ``gravity`` and ``rho`` must equal ``water``'s.
         Default None: flat water.
 
     Examples

@@ -18,7 +18,7 @@ import sys
 import warnings
 
 from ._checks import ParameterError
-from .settings import SIM_DEFAULTS, describe, simulation  # noqa: F401 (shared with cli_search)
+from .settings import SIM_DEFAULTS, describe, environment, simulation  # noqa: F401 (shared with cli_search)
 
 EXIT_USAGE = 2
 PICTURES = (".png", ".pdf", ".svg")
@@ -198,6 +198,7 @@ def _throw(args) -> int:
         for key in ("plot", "water_plot", "animate"):
             if getattr(args, key):
                 out[key] = str(getattr(args, key))
+        out["environment"] = environment()
         print_json(out)
     else:
         print(_summary(result))

@@ -11,7 +11,8 @@ from __future__ import annotations
 import sys
 
 from ._checks import ParameterError, check_int
-from .cli import PICTURES, SIM_DEFAULTS, _float, add_common, check_output, describe, print_json, sim_values, simulation
+from .cli import (PICTURES, SIM_DEFAULTS, _float, add_common, check_output, describe, environment, print_json, sim_values,
+                  simulation)
 
 RANGES = (("speed", "M/S", "speed [m/s]", (3.0, 12.0)), ("tilt", "DEG", "tilt [deg]", (5.0, 45.0)),
           ("attack", "DEG", "attack [deg]", (0.0, 30.0)), ("spin", "REV/S", "spin [rev/s]", (0.0, 20.0)))
@@ -166,6 +167,7 @@ def run_optimize(args) -> int:
         if health is not None:
             out["gradient_norms"] = health
         out["config"] = describe(values["stone"], config, water, rigid)
+        out["environment"] = environment()
         if args.plot:
             out["plot"] = str(args.plot)
         print_json(out)
@@ -238,7 +240,8 @@ def run_sweep_command(args) -> int:
     if args.plot:
         plot_sweep(result, args.plot)
     if args.json:
-        print_json({"complete": True, **result, **({"plot": args.plot} if args.plot else {})})
+        print_json({"complete": True, **result, **({"plot": args.plot} if args.plot else {}),
+                    "environment": environment()})
         return 0
     spec = result["spec"]
     if spec["kind"] == "umin":

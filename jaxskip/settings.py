@@ -40,6 +40,24 @@ def simulation(*, stone, mass, density, force_law, c_lift, c_friction, velocity,
     return config, water, rigid
 
 
+def environment() -> dict:
+    """What produced a result, for ``--json`` outputs: package versions, Python, whether JAX computes in
+    float64 (``jax_enable_x64``; float32 otherwise) and its devices. Long throws' bounce counts are chaotic
+    down to the last bit, so the precision and versions are part of a reproducible answer."""
+    import platform
+
+    import jax
+    import jaxlib
+    import numpy as np
+
+    from . import __version__
+
+    devices = jax.devices()
+    return {"jaxskip": __version__, "jax": jax.__version__, "jaxlib": jaxlib.__version__, "numpy": np.__version__,
+            "python": platform.python_version(), "float64": bool(jax.config.jax_enable_x64),
+            "devices": f"{len(devices)} x {devices[0].platform}"}
+
+
 def describe(stone, config, water, rigid) -> dict:
     """The resolved simulation configuration, JSON-ready (SI units; the stone as given)."""
     return {"stone": str(stone), "mass": float(rigid.mass), "attitude": config.attitude,

@@ -35,6 +35,10 @@ def test_default_throw_json_and_plot(tmp_path):
     assert params["speed"] == 8.0 and params["tilt_deg"] == pytest.approx(20.0)
     assert params["force_law"] == "bocquet" and params["stone"] == "paper"
     assert png.stat().st_size > 10_000 and png.read_bytes()[:4] == b"\x89PNG"
+    import jax
+
+    env = out["environment"]  # what produced the answer: versions, precision, devices
+    assert env["jax"] == jax.__version__ and isinstance(env["float64"], bool) and env["devices"].endswith("cpu")
 
 
 def test_human_summary_and_options():
