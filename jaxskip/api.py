@@ -83,9 +83,11 @@ class ThrowResult:
     steps: int
     """Steps taken (flight jumps included)."""
     trajectory: dict
-    """Per-step arrays: ``time`` (N,) [s], ``position`` (N, 3) [m] (centre of mass), ``orientation``
-    (N, 4) [-] (unit quaternion (w, x, y, z), body to world), ``wetted_area`` (N,) [m^2], ``force``
-    (N, 3) [N] (water force on the stone)."""
+    """Per-step arrays, the state at the start of each step: ``time`` (N,) [s], ``position`` (N, 3) [m]
+    (centre of mass), ``orientation`` (N, 4) [-] (unit quaternion (w, x, y, z), body to world),
+    ``velocity`` (N, 3) [m/s], ``angular_velocity`` (N, 3) [rad/s] (world frame), ``wetted_area``
+    (N,) [m^2], ``force`` (N, 3) [N] (water force on the stone). Steps are not evenly spaced
+    (fine in contact, long jumps in flight): :func:`jaxskip.export.frames` resamples them."""
     throw: Throw
     """The throw simulated (SI, shape ())."""
     config: SimConfig
@@ -106,6 +108,8 @@ class ThrowResult:
     window exchanges water with the lake at its sponge border, so it need not be 0) and
     ``frames``: list of snapshots ``(time [s], origin (2,) [m], height (nx, ny) [m],
     position (3,) [m], orientation (4,))``, one per chunk."""
+    rigid: RigidStone | None = None
+    """The stone simulated (mass properties and mesh in the body frame)."""
 
     def to_dict(self) -> dict:
         """JSON-ready summary with the resolved parameters (user units alongside SI)."""
@@ -372,7 +376,7 @@ def simulate(
     state, tr = jax.device_get(carry[:2])
     n_alive = int(np.sum([np.sum(np.diff(r.time, prepend=-1.0) > 0) for r in records]))
     traj = {k: np.concatenate([getattr(r, k) for r in records])[:n_alive] for k in
-            ("time", "position", "orientation", "wetted_area", "force")}
+            ("time", "position", "orientation", "wetted_area", "force", "velocity", "angular_velocity")}
     outcome = OUTCOMES[STEP_LIMIT] if tr.alive else OUTCOMES[int(tr.outcome)]
     end_time = float(state.time)
     k = min(int(tr.contacts), config.max_contacts)
@@ -395,4 +399,5 @@ def simulate(
         bounces=int(tr.bounces), contacts=contacts, n_contacts=int(tr.contacts), distance=distance,
         outcome=outcome, final_time=end_time, steps=n_alive, trajectory=traj, throw=throw, config=config,
         stone_name=name, mass=float(rigid.mass), water=water, wall_time=time.perf_counter() - t0, field=field,
+        rigid=rigid,
     )

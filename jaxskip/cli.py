@@ -17,7 +17,7 @@ import os
 import sys
 import warnings
 
-from ._checks import ParameterError
+from ._checks import ParameterError, check_range
 from .settings import SIM_DEFAULTS, describe, environment, simulation  # noqa: F401 (shared with cli_search)
 
 EXIT_USAGE = 2
@@ -128,6 +128,11 @@ def build_parser() -> argparse.ArgumentParser:
                    help="(--water field) write the ripples: shaded top view and 3-D view (PNG/PDF/SVG)")
     t.add_argument("--animate", metavar="PATH.gif", default=None,
                    help="(--water field) write an animation of the stone and the water (GIF)")
+    t.add_argument("--trajectory", metavar="PATH.csv|.json", default=None,
+                   help="write the motion as evenly spaced frames for animation or other tools: time, position, "
+                        "quaternion (w, x, y, z), velocity, in water (SI)")
+    t.add_argument("--fps", type=_float("--fps"), default=None, metavar="N",
+                   help="(--trajectory) frames per second, in (0, 10000] (default 60)")
     from .cli_search import add_parsers
 
     add_parsers(sub)
@@ -158,8 +163,15 @@ def _summary(result) -> str:
 def _throw(args) -> int:
     for flag, suffixes in (("--plot", PICTURES), ("--water-plot", PICTURES), ("--animate", (".gif",))):
         check_output(flag, getattr(args, flag[2:].replace("-", "_")), suffixes)
+    check_output("--trajectory", args.trajectory, (".csv", ".json"))
     if args.water == "flat" and (args.animate or args.water_plot):
         raise ParameterError("--animate and --water-plot need --water field (flat water has no ripples to draw)")
+    if args.fps is not None and args.trajectory is None:
+        raise ParameterError("--fps is the frame rate of --trajectory; give --trajectory PATH.csv|.json too")
+    if args.fps is not None:
+        from .export import MAX_FPS
+
+        check_range("--fps", args.fps, 0.0, MAX_FPS, unit="frames/s", low_open=True)
     import jax
 
     jax.config.update("jax_enable_x64", True)  # results match the float64 test suite
@@ -193,9 +205,13 @@ def _throw(args) -> int:
         if progress:
             print("writing animation ...", file=sys.stderr, flush=True)
         animate_throw(result, stone, args.animate)
+    if args.trajectory:
+        from .export import write_trajectory
+
+        write_trajectory(result, args.trajectory, 60.0 if args.fps is None else args.fps)
     if args.json:
         out = result.to_dict()
-        for key in ("plot", "water_plot", "animate"):
+        for key in ("plot", "water_plot", "animate", "trajectory"):
             if getattr(args, key):
                 out[key] = str(getattr(args, key))
         out["environment"] = environment()
@@ -207,7 +223,8 @@ def _throw(args) -> int:
             print(f"water: height field {w['shape'][0]}x{w['shape'][1]} columns of {w['spacing'] * 100:g} cm, "
                   f"depth {w['depth'] * 100:g} cm, step {w['time_step'] * 1e3:g} ms, clamp {w['clamp']}; "
                   f"window volume change {w['volume_change']:+.2e}")
-        for label, key in (("picture", "plot"), ("ripples", "water_plot"), ("animation", "animate")):
+        for label, key in (("picture", "plot"), ("ripples", "water_plot"), ("animation", "animate"),
+                           ("trajectory", "trajectory")):
             if getattr(args, key):
                 print(f"{label}: {getattr(args, key)}")
     return 0

@@ -337,6 +337,10 @@ class Record:
     """(3,) water force [N]"""
     gap: jax.Array
     """() height of the stone's lowest vertex above the water under it [m] (negative: immersed)"""
+    velocity: jax.Array
+    """(3,) centre-of-mass velocity [m/s]"""
+    angular_velocity: jax.Array
+    """(3,) angular velocity, world frame [rad/s]"""
 
 
 def _gravity(water: WaterParams):
@@ -677,7 +681,8 @@ def make_step(config: SimConfig, surface=flat_surface, push: bool = False):
         x1, v1, q1, w1 = _integrate(config, stone, water, surface, state, R, L, dt, first, dry)
         new = StoneState(x1, v1, q1, w1, t + dt)
         state1 = jax.tree_util.tree_map(lambda a, b: jnp.where(alive, a, b), new, state)
-        rec = Record(t, state.position, state.orientation, wet_area, F, gap) if config.record else None
+        rec = (Record(t, state.position, state.orientation, wet_area, F, gap, state.velocity, state.angular_velocity)
+               if config.record else None)
         pushed = (tri_forces, tri_centroids) if push else None
         return (state1, tr1), (row_idx, row), rec, pushed
 
@@ -710,7 +715,8 @@ def make_step(config: SimConfig, surface=flat_surface, push: bool = False):
 def _frozen_record(state: StoneState) -> Record:
     """The record of a step taken out of play: the state repeats, no water force."""
     zero = 0.0 * state.time
-    return Record(state.time, state.position, state.orientation, zero, jnp.zeros(3) * zero, zero)
+    return Record(state.time, state.position, state.orientation, zero, jnp.zeros(3) * zero, zero, state.velocity,
+                  state.angular_velocity)
 
 
 def _record_packing():

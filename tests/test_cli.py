@@ -84,6 +84,9 @@ def test_obj_stone(tmp_path):
     (["--density", "50"], "--density must be in [100, 25000] kg/m^3"),
     (["--mass", "1", "--density", "2000"], "--density: not allowed with argument --mass"),
     (["--plot", "out.txt"], "--plot"),
+    (["--trajectory", "out.txt"], "--trajectory must end in .csv or .json"),
+    (["--fps", "30"], "--fps is the frame rate of --trajectory"),
+    (["--trajectory", "out.csv", "--fps", "0"], "--fps must be in (0, 10000] frames/s"),
 ])
 def test_bad_input_exits_2_without_traceback(args, needle):
     p = run("throw", *args)
@@ -209,3 +212,17 @@ def test_installed_console_script_runs_from_anywhere(tmp_path):
     p = subprocess.run([script, "--help"], capture_output=True, text=True, cwd=tmp_path, env=env, timeout=120)
     assert p.returncode == 0, p.stderr
     assert all(c in p.stdout for c in ("throw", "optimize", "sweep"))
+
+
+def test_trajectory_file_for_animators(tmp_path, capsys):
+    """--trajectory writes evenly spaced frames (CSV: header, then t, x, y, z, quaternion, velocity, in_water)."""
+    import numpy as np
+
+    path = tmp_path / "throw.csv"
+    assert main(["throw", "--trajectory", str(path), "--fps", "30", "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    table = np.loadtxt(path, delimiter=",")
+    assert out["trajectory"] == str(path) and table.shape == (12, 12)  # 0.375 s at 30 frames/s
+    np.testing.assert_allclose(np.diff(table[:, 0]), 1 / 30, atol=1e-6)
+    assert table[0, 1:4] @ [0, 0, 1] == pytest.approx(0.0178, abs=1e-4)  # released with its lowest point 1 mm up
+    assert set(table[:, -1]) == {0.0, 1.0}  # frames in the air and in the water

@@ -87,7 +87,8 @@ def test_soft_count_ignores_frozen_steps():
     gap = jnp.array([1e-3, -1e-3, -2e-3, 1e-3, 5e-3, 2e-3, -1e-3, 0.0, 0.0])
     time = jnp.array([0.0, 1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 6.0, 6.0])
     z = jnp.zeros(9)
-    rec = Record(time, jnp.zeros((9, 3)), jnp.zeros((9, 4)), z, jnp.zeros((9, 3)), gap)
+    rec = Record(time, jnp.zeros((9, 3)), jnp.zeros((9, 4)), z, jnp.zeros((9, 3)), gap, jnp.zeros((9, 3)),
+                 jnp.zeros((9, 3)))
     n = float(soft_bounce_count(rec, clearance=1e-3, width=2e-4))
     assert abs(n - 1.0) < 0.01
 
