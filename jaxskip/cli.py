@@ -25,9 +25,26 @@ PICTURES = (".png", ".pdf", ".svg")
 
 class _Parser(argparse.ArgumentParser):
     def error(self, message):  # argparse's own errors: same style, exit 2
-        self.print_usage(sys.stderr)
+        if "required: command" in message:  # bare `jaxskip`: show what there is to do
+            self.print_help(sys.stderr)
+        else:
+            self.print_usage(sys.stderr)
         print(f"jaxskip: error: {message}", file=sys.stderr)
         raise SystemExit(EXIT_USAGE)
+
+
+def _version() -> str:
+    """``jaxskip X (jax Y, Python Z)`` without importing JAX (fast, for ``--version``)."""
+    import platform
+    from importlib import metadata
+
+    from . import __version__
+
+    try:
+        jax_version = metadata.version("jax")
+    except metadata.PackageNotFoundError:  # pragma: no cover - jax is a dependency
+        jax_version = "not installed"
+    return f"jaxskip {__version__} (jax {jax_version}, Python {platform.python_version()})"
 
 
 def _float(name):
@@ -106,7 +123,9 @@ def print_json(obj) -> None:
 
 
 def build_parser() -> argparse.ArgumentParser:
-    p = _Parser(prog="jaxskip", description="Differentiable stone-skipping simulator.")
+    p = _Parser(prog="jaxskip", description="Differentiable stone-skipping simulator. Start with `jaxskip throw` "
+                "(a default throw); `jaxskip COMMAND --help` lists a command's options.")
+    p.add_argument("--version", action="version", version=_version())
     sub = p.add_subparsers(dest="command", required=True, parser_class=_Parser)
     t = sub.add_parser("throw", help="simulate one throw (flat water, or a coupled height field: --water field)",
                        description="Simulate one throw. With no options: a good default throw that skips many times.")

@@ -226,3 +226,15 @@ def test_trajectory_file_for_animators(tmp_path, capsys):
     np.testing.assert_allclose(np.diff(table[:, 0]), 1 / 30, atol=1e-6)
     assert table[0, 1:4] @ [0, 0, 1] == pytest.approx(0.0178, abs=1e-4)  # released with its lowest point 1 mm up
     assert set(table[:, -1]) == {0.0, 1.0}  # frames in the air and in the water
+
+
+def test_version_and_bare_command(capsys):
+    import jaxskip
+
+    with pytest.raises(SystemExit) as e:
+        main(["--version"])
+    assert e.value.code == 0 and capsys.readouterr().out.startswith(f"jaxskip {jaxskip.__version__} (jax ")
+    with pytest.raises(SystemExit) as e:
+        main([])
+    err = capsys.readouterr().err
+    assert e.value.code == 2 and "jaxskip throw" in err and "optimize" in err and "sweep" in err
