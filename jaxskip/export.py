@@ -70,12 +70,16 @@ def frames(result, fps: float = 60.0) -> dict:
     times = np.arange(int(math.floor(t[-1] * fps + 1e-9)) + 1) / fps
     # the step each frame falls in (a frame within 1 ns of a step's start, as rounding leaves it, takes that step)
     i = np.clip(np.searchsorted(t, times + 1e-9, side="right") - 1, 0, len(t) - 1)
+    m = len(times)
+    # Padded to a power of two (at least 64 frames) so that throws of other lengths reuse one program.
+    pad = max(64, 1 << (m - 1).bit_length())
+    j, tau = np.concatenate([i, np.full(pad - m, i[-1])]), np.concatenate([times - t[i], np.zeros(pad - m)])
     dtype = np.asarray(traj["position"]).dtype
-    pick = lambda k: jnp.asarray(np.asarray(traj[k])[i], dtype=dtype)  # noqa: E731
+    pick = lambda k: jnp.asarray(np.asarray(traj[k])[j], dtype=dtype)  # noqa: E731
     x, v, q = _carry(pick("position"), pick("velocity"), pick("orientation"), pick("angular_velocity"),
-                     jnp.asarray(times - t[i], dtype=dtype), result.rigid, jnp.asarray(result.water.gravity, dtype))
-    return {"time": times, "position": np.asarray(x), "orientation": np.asarray(q), "velocity": np.asarray(v),
-            "in_water": np.asarray(traj["wetted_area"])[i] > 0.0}
+                     jnp.asarray(tau, dtype=dtype), result.rigid, jnp.asarray(result.water.gravity, dtype))
+    return {"time": times, "position": np.asarray(x)[:m], "orientation": np.asarray(q)[:m],
+            "velocity": np.asarray(v)[:m], "in_water": np.asarray(traj["wetted_area"])[i] > 0.0}
 
 
 def write_trajectory(result, path, fps: float = 60.0) -> None:
