@@ -149,7 +149,8 @@ def build_parser() -> argparse.ArgumentParser:
                    help="(--water field) write an animation of the stone and the water (GIF)")
     t.add_argument("--trajectory", metavar="PATH.csv|.json", default=None,
                    help="write the motion as evenly spaced frames for animation or other tools: time, position, "
-                        "quaternion (w, x, y, z), velocity, in water (SI)")
+                        "quaternion (w, x, y, z), velocity, in water (SI); the stone in the body frame the "
+                        "quaternions rotate goes beside it (PATH.obj)")
     t.add_argument("--fps", type=_float("--fps"), default=None, metavar="N",
                    help="(--trajectory) frames per second, in (0, 10000] (default 60)")
     from .cli_search import add_parsers
@@ -224,15 +225,18 @@ def _throw(args) -> int:
         if progress:
             print("writing animation ...", file=sys.stderr, flush=True)
         animate_throw(result, stone, args.animate)
+    stone_obj = None
     if args.trajectory:
         from .export import write_trajectory
 
-        write_trajectory(result, args.trajectory, 60.0 if args.fps is None else args.fps)
+        stone_obj = write_trajectory(result, args.trajectory, 60.0 if args.fps is None else args.fps)
     if args.json:
         out = result.to_dict()
         for key in ("plot", "water_plot", "animate", "trajectory"):
             if getattr(args, key):
                 out[key] = str(getattr(args, key))
+        if stone_obj:
+            out["trajectory_stone"] = stone_obj
         out["environment"] = environment()
         print_json(out)
     else:
@@ -246,6 +250,8 @@ def _throw(args) -> int:
                            ("trajectory", "trajectory")):
             if getattr(args, key):
                 print(f"{label}: {getattr(args, key)}")
+        if stone_obj:
+            print(f"the stone in the trajectory's body frame: {stone_obj}")
     return 0
 
 

@@ -33,6 +33,7 @@ import numpy as np
 
 from . import quaternion as quat
 from ._checks import ParameterError, check_range
+from .mesh import TriMesh, write_obj
 from .simulate import _momentum_from_spin, free_rotation
 
 #: Highest frame rate :func:`frames` accepts [1/s].
@@ -82,32 +83,51 @@ def frames(result, fps: float = 60.0) -> dict:
             "velocity": np.asarray(v)[:m], "in_water": np.asarray(traj["wetted_area"])[i] > 0.0}
 
 
-def write_trajectory(result, path, fps: float = 60.0) -> None:
+def body_mesh(stone) -> TriMesh:
+    """The stone's surface in its body frame [m] (origin at the centre of mass, axes along the principal
+    axes: the frame :func:`frames`' positions and quaternions place), as a closed indexed mesh.
+
+    A vertex of the body at ``v`` is at ``R(q) v + x`` in the world, with ``x`` a frame's position and
+    ``R(q)`` its quaternion's rotation."""
+    tri = np.asarray(stone.triangles, dtype=np.float64)
+    vertices, index = np.unique(tri.reshape(-1, 3), axis=0, return_inverse=True)
+    return TriMesh(vertices, index.reshape(-1, 3), name="stone in its body frame")
+
+
+def write_trajectory(result, path, fps: float = 60.0) -> str:
     """Write :func:`frames` of ``result`` to ``path``: ``.csv`` (a commented header with the throw, then
-    one row per frame, columns :data:`COLUMNS`) or ``.json`` (``{"fps", "units", "throw", "frames":
-    {column: list}}``). SI units; quaternions (w, x, y, z) rotate body to world (z up)."""
+    one row per frame, columns :data:`COLUMNS`) or ``.json`` (``{"about", "fps", "units", "stone_obj",
+    "frames": {column: list}}``). SI units; quaternions (w, x, y, z) rotate body to world (z up).
+
+    Writes the stone beside it, in the body frame those quaternions rotate (:func:`body_mesh`), as an
+    OBJ file of the same name (``throw.csv`` -> ``throw.obj``); returns that path."""
     path = os.fspath(path)
     if not path.lower().endswith((".csv", ".json")):
         raise ParameterError(f"path must end in .csv or .json, got {path!r}")
     f = frames(result, fps)
+    obj = os.path.splitext(path)[0] + ".obj"
+    write_obj(obj, body_mesh(result.rigid))
     t = result.throw
     about = (f"jaxskip trajectory: {result.stone_name} stone, {result.mass * 1e3:.1f} g; speed "
              f"{float(t.speed):g} m/s, tilt {math.degrees(float(t.tilt)):g} deg, attack "
              f"{math.degrees(float(t.attack)):g} deg, spin {float(t.spin) / (2 * math.pi):g} rev/s; "
-             f"{result.bounces} bounces, {result.outcome}; {fps:g} frames/s; world frame z up, water at z = 0")
+             f"{result.bounces} bounces, {result.outcome}; {fps:g} frames/s; world frame z up, water at z = 0; "
+             f"the stone in its body frame: {os.path.basename(obj)}")
     table = np.column_stack([f["time"], f["position"], f["orientation"], f["velocity"],
                              f["in_water"].astype(np.float64)])
     if path.lower().endswith(".csv"):
         np.savetxt(path, table, delimiter=",", fmt=["%.6f"] + ["%.9g"] * 10 + ["%d"],
                    header=about + "\n" + ",".join(COLUMNS), comments="# ")
-        return
+        return obj
     keys = ("t", "x", "y", "z", "qw", "qx", "qy", "qz", "vx", "vy", "vz")
     out = {"about": about, "fps": fps, "units": dict(zip(keys, ("s", "m", "m", "m", "-", "-", "-", "-", "m/s",
                                                                  "m/s", "m/s"))),
+           "stone_obj": os.path.basename(obj),
            "frames": {**{k: table[:, c].tolist() for c, k in enumerate(keys)},
                       "in_water": f["in_water"].tolist()}}
     with open(path, "w") as fh:
         json.dump(out, fh)
+    return obj
 
 
-__all__ = ["COLUMNS", "MAX_FPS", "frames", "write_trajectory"]
+__all__ = ["COLUMNS", "MAX_FPS", "body_mesh", "frames", "write_trajectory"]

@@ -226,6 +226,7 @@ def test_trajectory_file_for_animators(tmp_path, capsys):
     np.testing.assert_allclose(np.diff(table[:, 0]), 1 / 30, atol=1e-6)
     assert table[0, 1:4] @ [0, 0, 1] == pytest.approx(0.0178, abs=1e-4)  # released with its lowest point 1 mm up
     assert set(table[:, -1]) == {0.0, 1.0}  # frames in the air and in the water
+    assert out["trajectory_stone"] == str(tmp_path / "throw.obj") and (tmp_path / "throw.obj").stat().st_size > 500
 
 
 def test_version_and_bare_command(capsys):

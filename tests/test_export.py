@@ -85,6 +85,24 @@ def test_csv_and_json_files(default_throw, tmp_path):
     j = json.loads((tmp_path / "t.json").read_text())
     assert j["fps"] == 30.0 and j["units"]["x"] == "m" and len(j["frames"]["t"]) == len(f["time"])
     assert j["frames"]["in_water"] == f["in_water"].tolist()
+    assert j["stone_obj"] == "t.obj"
+
+
+def test_the_stone_file_is_in_the_frame_the_quaternions_rotate(default_throw, tmp_path):
+    """The OBJ written beside a trajectory is the stone in its body frame: placed by a frame's quaternion
+    and position, its lowest vertex at release is the throw's 1 mm above the water, and its volume gives
+    the stone's mass at the paper stone's density."""
+    from jaxskip import mass_properties, read_obj
+    from jaxskip import quaternion as quat
+
+    obj = write_trajectory(default_throw, tmp_path / "t.csv", fps=30.0)
+    assert obj == str(tmp_path / "t.obj")
+    mesh = read_obj(obj)  # validated: closed, outward
+    f = frames(default_throw, fps=30.0)
+    world = mesh.vertices @ np.asarray(quat.to_matrix(f["orientation"][0])).T + f["position"][0]
+    assert world[:, 2].min() == pytest.approx(float(default_throw.throw.height), abs=1e-12)
+    assert mass_properties(mesh, density=2650.0).mass == pytest.approx(default_throw.mass, rel=1e-12)
+    np.testing.assert_allclose(mass_properties(mesh, density=2650.0).center_of_mass, 0.0, atol=1e-12)
 
 
 @pytest.mark.parametrize("fps", [0.0, -1.0, float("nan"), 1e5])
