@@ -100,10 +100,16 @@ def check_array(name: str, value, low: float, high: float, *, unit: str = "", lo
     """
     import numpy as np
 
-    if isinstance(value, (bool, np.bool_)) or np.asarray(value).dtype == np.bool_:
-        raise ParameterError(f"{name} must be a real number or array of them, got {value!r}")
+    import jax
+
+    if isinstance(value, jax.core.Tracer):
+        raise ParameterError(f"{name} is a traced value: Throw.create / Throw.from_degrees check concrete values "
+                             "before tracing; inside jit, vmap or grad build the throw with Throw(...) directly")
     try:
-        arr = np.asarray(value, dtype=np.float64)
+        raw = np.asarray(value)
+        if raw.dtype == np.bool_:
+            raise TypeError
+        arr = np.asarray(raw, dtype=np.float64)
     except (TypeError, ValueError):
         raise ParameterError(f"{name} must be a real number or array of them, got {value!r}") from None
     bad = ~np.isfinite(arr)

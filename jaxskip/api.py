@@ -20,8 +20,8 @@ import jax.numpy as jnp
 import numpy as np
 
 from ._arrays import float_array
-from ._checks import ParameterError, check_int, check_positive
-from .body import RigidStone, rigid_stone
+from ._checks import ParameterError, check_int, check_positive, check_range
+from .body import DENSITY_RANGE, RigidStone, rigid_stone
 from .forces import WaterParams, water_params
 from .mesh import TriMesh
 from .coupled import default_water_dt, initial_field, make_coupled_step
@@ -93,8 +93,8 @@ class ThrowResult:
     config: SimConfig
     """The simulation settings used."""
     stone_name: str
-    """The stone as given: a built-in name, the ``.obj`` path, a mesh's ``name``, or ``"custom"`` for a
-    RigidStone."""
+    """The stone's name: a built-in name, a mesh's ``name`` (for an ``.obj`` path: the file's name
+    without the folder and suffix), or ``"custom"`` for a RigidStone."""
     mass: float
     """Stone mass [kg]."""
     water: WaterParams
@@ -179,7 +179,8 @@ def resolve_stone(stone, *, mass=None, density=None) -> tuple[RigidStone, str]:
     if isinstance(stone, str) and stone in BUILTIN_STONES:
         # validated (and made hashable floats) before the cache sees them
         mass = None if mass is None else check_positive("mass", mass, unit="kg")
-        density = None if density is None else check_positive("density", density, unit="kg/m^3")
+        density = None if density is None else check_range("density", density, *DENSITY_RANGE,
+                                                           unit="kg/m^3 (cork to osmium)")
         return _builtin_stone(stone, mass, density, bool(jax.config.jax_enable_x64))
     if isinstance(stone, (str, os.PathLike)):
         mesh, default_density = load_stone(stone)

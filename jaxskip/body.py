@@ -7,6 +7,7 @@ triangles share one compiled simulator and can be batched.
 from __future__ import annotations
 
 import dataclasses
+import math
 
 import jax
 import jax.numpy as jnp
@@ -65,6 +66,16 @@ def principal_axes(inertia: np.ndarray) -> np.ndarray:
 DENSITY_RANGE = (100.0, 25000.0)
 
 
+def _round_inside(low: float, high: float, digits: int = 3) -> tuple[float, float]:
+    """``(low, high)`` rounded to ``digits`` significant digits inwards (low up, high down): every value
+    of the printed interval is valid."""
+    def at(x, up):
+        e = 10.0 ** (math.floor(math.log10(abs(x))) - digits + 1)
+        return (math.ceil if up else math.floor)(x / e * (1 - 1e-12 if up else 1 + 1e-12)) * e
+
+    return at(low, True), at(high, False)
+
+
 def rigid_stone(mesh: TriMesh, *, density: float | None = None, mass: float | None = None) -> RigidStone:
     """Make a :class:`RigidStone` from a closed mesh.
 
@@ -98,8 +109,9 @@ def rigid_stone(mesh: TriMesh, *, density: float | None = None, mass: float | No
     if mass is not None:
         volume = float(props.volume)
         if not lo <= float(mass) / volume <= hi:
+            low, high = _round_inside(lo * volume, hi * volume)
             raise ParameterError(
-                f"mass must be in [{lo * volume:.3g}, {hi * volume:.3g}] kg for this stone "
+                f"mass must be in [{low:.3g}, {high:.3g}] kg for this stone "
                 f"({volume * 1e6:.3g} cm^3: densities {lo:g}-{hi:g} kg/m^3, cork to osmium), got {float(mass)!r} "
                 f"(density {float(mass) / volume:.3g} kg/m^3)")
     axes = principal_axes(np.asarray(props.inertia, dtype=np.float64))

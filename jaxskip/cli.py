@@ -34,7 +34,7 @@ class _Parser(argparse.ArgumentParser):
 
 
 def _version() -> str:
-    """``jaxskip X (jax Y, Python Z)`` without importing JAX (fast, for ``--version``)."""
+    """``jaxskip X (jax Y, Python Z)`` for ``--version`` (the versions as installed)."""
     import platform
     from importlib import metadata
 
@@ -150,7 +150,7 @@ def build_parser() -> argparse.ArgumentParser:
     t.add_argument("--trajectory", metavar="PATH.csv|.json", default=None,
                    help="write the motion as evenly spaced frames for animation or other tools: time, position, "
                         "quaternion (w, x, y, z), velocity, in water (SI); the stone in the body frame the "
-                        "quaternions rotate goes beside it (PATH.obj)")
+                        "quaternions rotate goes beside it (PATH.stone.obj)")
     t.add_argument("--fps", type=_float("--fps"), default=None, metavar="N",
                    help="(--trajectory) frames per second, in (0, 10000] (default 60)")
     from .cli_search import add_parsers
@@ -184,6 +184,15 @@ def _throw(args) -> int:
     for flag, suffixes in (("--plot", PICTURES), ("--water-plot", PICTURES), ("--animate", (".gif",))):
         check_output(flag, getattr(args, flag[2:].replace("-", "_")), suffixes)
     check_output("--trajectory", args.trajectory, (".csv", ".json"))
+    if args.trajectory:
+        from .export import stone_path
+
+        beside = stone_path(args.trajectory)
+        check_output("--trajectory", beside, (".obj",))
+        if args.stone and os.path.exists(args.stone) and os.path.exists(beside) and os.path.samefile(args.stone,
+                                                                                                     beside):
+            raise ParameterError(f"--trajectory {args.trajectory!r} would write the stone's body-frame mesh over "
+                                 f"--stone {args.stone!r}: choose another trajectory name")
     if args.water == "flat" and (args.animate or args.water_plot):
         raise ParameterError("--animate and --water-plot need --water field (flat water has no ripples to draw)")
     if args.fps is not None and args.trajectory is None:

@@ -240,8 +240,9 @@ def run_sweep_command(args) -> int:
     if args.plot:
         plot_sweep(result, args.plot)
     if args.json:
-        print_json({"complete": True, **result, **({"plot": args.plot} if args.plot else {}),
-                    "environment": environment()})
+        # (a merge joins chunks computed elsewhere: the environment here says nothing about them)
+        here = {} if args.kind == "merge" else {"environment": environment()}
+        print_json({"complete": True, **result, **({"plot": args.plot} if args.plot else {}), **here})
         return 0
     spec = result["spec"]
     if spec["kind"] == "umin":

@@ -23,6 +23,7 @@ same throw stepped every 0.25 ms through the air: equal to rounding. In contact 
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import math
 import os
@@ -38,9 +39,11 @@ from .simulate import _momentum_from_spin, free_rotation
 
 #: Highest frame rate :func:`frames` accepts [1/s].
 MAX_FPS = 10_000.0
-#: Columns of :func:`write_trajectory`'s CSV, with their units.
-COLUMNS = ("t [s]", "x [m]", "y [m]", "z [m]", "qw", "qx", "qy", "qz", "vx [m/s]", "vy [m/s]", "vz [m/s]",
-           "in_water")
+#: Columns of :func:`write_trajectory`'s CSV (its first line), each name ending in its unit: time [s],
+#: position [m], quaternion (w, x, y, z) [-], velocity [m/s], in the water (0/1).
+COLUMNS = ("t_s", "x_m", "y_m", "z_m", "qw", "qx", "qy", "qz", "vx_m_s", "vy_m_s", "vz_m_s", "in_water")
+#: Suffix of the stone file written beside a trajectory (``throw.csv`` -> ``throw.stone.obj``).
+STONE_SUFFIX = ".stone.obj"
 
 
 @jax.jit
@@ -61,7 +64,8 @@ def frames(result, fps: float = 60.0) -> dict:
     ``fps`` [1/s] in (0, 10000]. Frames run from 0 to the last simulated step. Returns host arrays:
     ``time`` (M,) [s], ``position`` (M, 3) [m] (centre of mass), ``orientation`` (M, 4) [-] (unit
     quaternion (w, x, y, z), body to world), ``velocity`` (M, 3) [m/s], ``in_water`` (M,) bool (the
-    step the frame falls in had a wet triangle).
+    step the frame falls in had a wet triangle). With ``attitude="fixed"`` the attitude is held, as
+    in the simulation (the recorded spin is the throw's, never applied).
     """
     fps = check_range("fps", fps, 0.0, MAX_FPS, unit="frames/s", low_open=True)
     if result.rigid is None:
@@ -77,7 +81,9 @@ def frames(result, fps: float = 60.0) -> dict:
     j, tau = np.concatenate([i, np.full(pad - m, i[-1])]), np.concatenate([times - t[i], np.zeros(pad - m)])
     dtype = np.asarray(traj["position"]).dtype
     pick = lambda k: jnp.asarray(np.asarray(traj[k])[j], dtype=dtype)  # noqa: E731
-    x, v, q = _carry(pick("position"), pick("velocity"), pick("orientation"), pick("angular_velocity"),
+    held = result.config.attitude == "fixed"  # the simulator holds q: so do the frames
+    spin = pick("angular_velocity") * (0.0 if held else 1.0)
+    x, v, q = _carry(pick("position"), pick("velocity"), pick("orientation"), spin,
                      jnp.asarray(tau, dtype=dtype), result.rigid, jnp.asarray(result.water.gravity, dtype))
     return {"time": times, "position": np.asarray(x)[:m], "orientation": np.asarray(q)[:m],
             "velocity": np.asarray(v)[:m], "in_water": np.asarray(traj["wetted_area"])[i] > 0.0}
@@ -94,34 +100,42 @@ def body_mesh(stone) -> TriMesh:
     return TriMesh(vertices, index.reshape(-1, 3), name="stone in its body frame")
 
 
+def stone_path(path) -> str:
+    """Where :func:`write_trajectory` puts the stone for a trajectory at ``path``: ``throw.csv`` ->
+    ``throw.stone.obj``."""
+    return os.path.splitext(os.fspath(path))[0] + STONE_SUFFIX
+
+
 def write_trajectory(result, path, fps: float = 60.0) -> str:
     """Write :func:`frames` of ``result`` to ``path``: ``.csv`` (a commented header with the throw, then
     one row per frame, columns :data:`COLUMNS`) or ``.json`` (``{"about", "fps", "units", "stone_obj",
     "frames": {column: list}}``). SI units; quaternions (w, x, y, z) rotate body to world (z up).
 
-    Writes the stone beside it, in the body frame those quaternions rotate (:func:`body_mesh`), as an
-    OBJ file of the same name (``throw.csv`` -> ``throw.obj``); returns that path."""
+    Writes the stone beside it, in the body frame those quaternions rotate (:func:`body_mesh`), as
+    ``PATH`` with :data:`STONE_SUFFIX` (``throw.csv`` -> ``throw.stone.obj``; its first line describes
+    the throw); returns that path. The CSV is plain: the column names (:data:`COLUMNS`) on its
+    first line, then one row per frame."""
     path = os.fspath(path)
     if not path.lower().endswith((".csv", ".json")):
         raise ParameterError(f"path must end in .csv or .json, got {path!r}")
     f = frames(result, fps)
-    obj = os.path.splitext(path)[0] + ".obj"
-    write_obj(obj, body_mesh(result.rigid))
+    obj = stone_path(path)
     t = result.throw
-    about = (f"jaxskip trajectory: {result.stone_name} stone, {result.mass * 1e3:.1f} g; speed "
-             f"{float(t.speed):g} m/s, tilt {math.degrees(float(t.tilt)):g} deg, attack "
-             f"{math.degrees(float(t.attack)):g} deg, spin {float(t.spin) / (2 * math.pi):g} rev/s; "
-             f"{result.bounces} bounces, {result.outcome}; {fps:g} frames/s; world frame z up, water at z = 0; "
-             f"the stone in its body frame: {os.path.basename(obj)}")
+    about = (f"jaxskip trajectory {os.path.basename(path)}: {result.stone_name} stone of {result.mass * 1e3:.1f} g "
+             f"in its body frame (centre of mass, principal axes); speed {float(t.speed):g} m/s, tilt "
+             f"{math.degrees(float(t.tilt)):g} deg, attack {math.degrees(float(t.attack)):g} deg, spin "
+             f"{float(t.spin) / (2 * math.pi):g} rev/s; {result.bounces} bounces, {result.outcome}; "
+             f"{fps:g} frames/s; world frame z up, water at z = 0; metres")
+    write_obj(obj, dataclasses.replace(body_mesh(result.rigid), name=about))
     table = np.column_stack([f["time"], f["position"], f["orientation"], f["velocity"],
                              f["in_water"].astype(np.float64)])
     if path.lower().endswith(".csv"):
-        np.savetxt(path, table, delimiter=",", fmt=["%.6f"] + ["%.9g"] * 10 + ["%d"],
-                   header=about + "\n" + ",".join(COLUMNS), comments="# ")
+        np.savetxt(path, table, delimiter=",", fmt=["%.6f"] + ["%.9g"] * 10 + ["%d"], header=",".join(COLUMNS),
+                   comments="")
         return obj
     keys = ("t", "x", "y", "z", "qw", "qx", "qy", "qz", "vx", "vy", "vz")
-    out = {"about": about, "fps": fps, "units": dict(zip(keys, ("s", "m", "m", "m", "-", "-", "-", "-", "m/s",
-                                                                 "m/s", "m/s"))),
+    out = {"about": about, "fps": fps, "units": dict(zip(keys + ("in_water",), ("s", "m", "m", "m", "-", "-", "-",
+                                                                                "-", "m/s", "m/s", "m/s", "bool"))),
            "stone_obj": os.path.basename(obj),
            "frames": {**{k: table[:, c].tolist() for c, k in enumerate(keys)},
                       "in_water": f["in_water"].tolist()}}
@@ -130,4 +144,4 @@ def write_trajectory(result, path, fps: float = 60.0) -> str:
     return obj
 
 
-__all__ = ["COLUMNS", "MAX_FPS", "body_mesh", "frames", "write_trajectory"]
+__all__ = ["COLUMNS", "MAX_FPS", "STONE_SUFFIX", "body_mesh", "frames", "stone_path", "write_trajectory"]

@@ -44,7 +44,7 @@ import optax
 from jaxskip import SimConfig, WaterParams, simulate_batch, water_params
 from jaxskip._arrays import float_array
 from jaxskip._checks import ParameterError, check_int, check_positive, check_range
-from jaxskip.api import resolve_stone
+from jaxskip.api import checked_config, checked_water, resolve_stone
 
 from .bounds import Box, make_box
 from .objectives import WIDTH, make_objective
@@ -218,7 +218,7 @@ def gradient_search(box: Box | None = None, *, objective: str = "bounces", stone
     """
     t0 = time.perf_counter()
     box = _as_box(box)
-    config = SimConfig() if config is None else config
+    config = checked_config(config)
     objective = _check_objective(objective)
     starts = check_int("starts", starts, minimum=1, maximum=4096)
     iterations = check_int("iterations", iterations, minimum=1, maximum=100_000)
@@ -228,7 +228,7 @@ def gradient_search(box: Box | None = None, *, objective: str = "bounces", stone
     check_positive("clip", clip)
     check_positive("width", width, unit="m")
     rigid, _ = resolve_stone(stone)
-    water = water_params(config.force.law) if water is None else water
+    water = water_params(config.force.law) if water is None else checked_water(water)
     if horizon is not None:
         horizon = check_int("horizon", horizon, minimum=1, maximum=config.max_steps)
     f = make_objective(objective, config if horizon is None else dataclasses.replace(config, max_steps=horizon),
@@ -360,7 +360,7 @@ def local_search(box: Box, centres: dict, *, throws: int = 256, scale: float = 0
     """
     t0 = time.perf_counter()
     box = _as_box(box)
-    config = SimConfig() if config is None else config
+    config = checked_config(config)
     objective = _check_objective(objective)
     n = check_int("throws", throws, minimum=1, maximum=100_000_000)
     check_range("scale", scale, 0.0, 1.0, low_open=True)
@@ -371,7 +371,8 @@ def local_search(box: Box, centres: dict, *, throws: int = 256, scale: float = 0
         c = np.atleast_1d(np.asarray(centres[name], dtype=float))
         if c.ndim != 1 or c.size == 0 or (m is not None and c.size != m):
             raise ParameterError(f"centres[{name!r}] must be a non-empty 1-D array of the same length as the others")
-        if not np.all((c >= lo) & (c <= hi)):
+        tol = 1e-9 * (hi - lo)  # to_user's rounding at a saturated coordinate may overshoot by an ulp
+        if not np.all((c >= lo - tol) & (c <= hi + tol)):
             raise ParameterError(f"centres[{name!r}] must lie within the box [{lo}, {hi}], got {c}")
         m = c.size
     rng = np.random.default_rng(seed)
@@ -427,7 +428,7 @@ def perturbation_search(box: Box | None = None, *, stone="paper", config: SimCon
     """
     t0 = time.perf_counter()
     box = _as_box(box)
-    config = SimConfig() if config is None else config
+    config = checked_config(config)
     starts = check_int("starts", starts, minimum=1, maximum=4096)
     iterations = check_int("iterations", iterations, minimum=1, maximum=100_000)
     samples = check_int("samples", samples, minimum=1, maximum=4096)
@@ -503,7 +504,7 @@ def grid_search(box: Box | None = None, *, per_axis: int = 10, stone="paper", co
     """Exhaustive search: every point of a regular grid simulated exactly (``per_axis`` ** P throws);
     ``water`` as in :func:`gradient_search`."""
     box = _as_box(box)
-    config = SimConfig() if config is None else config
+    config = checked_config(config)
     return _exhaustive("grid", box, grid_points(box, per_axis), stone, config, lanes, progress, water)
 
 
@@ -513,7 +514,7 @@ def random_search(box: Box | None = None, *, throws: int = 1000, stone="paper", 
     """Random search: ``throws`` uniform random points of the box simulated exactly; ``water`` as in
     :func:`gradient_search`."""
     box = _as_box(box)
-    config = SimConfig() if config is None else config
+    config = checked_config(config)
     n = check_int("throws", throws, minimum=1, maximum=100_000_000)
     return _exhaustive("random", box, _random_points(box, n, np.random.default_rng(seed)), stone, config, lanes,
                        progress, water)

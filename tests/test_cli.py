@@ -80,7 +80,7 @@ def test_obj_stone(tmp_path):
     (["--spin", "600"], "--spin must be finite and in [-500, 500] rev/s"),
     (["--c-lift", "-1"], "--c-lift must be in [0, 10], got -1"),
     (["--c-lift", "1e300"], "--c-lift must be in [0, 10], got 1e+300"),
-    (["--mass", "0.001"], "--mass must be in [0.00455, 1.14] kg for this stone (45.5 cm^3"),
+    (["--mass", "0.001"], "--mass must be in [0.00456, 1.13] kg for this stone (45.5 cm^3"),
     (["--density", "50"], "--density must be in [100, 25000] kg/m^3"),
     (["--mass", "1", "--density", "2000"], "--density: not allowed with argument --mass"),
     (["--plot", "out.txt"], "--plot"),
@@ -221,12 +221,26 @@ def test_trajectory_file_for_animators(tmp_path, capsys):
     path = tmp_path / "throw.csv"
     assert main(["throw", "--trajectory", str(path), "--fps", "30", "--json"]) == 0
     out = json.loads(capsys.readouterr().out)
-    table = np.loadtxt(path, delimiter=",")
+    table = np.loadtxt(path, delimiter=",", skiprows=1)
     assert out["trajectory"] == str(path) and table.shape == (12, 12)  # 0.375 s at 30 frames/s
     np.testing.assert_allclose(np.diff(table[:, 0]), 1 / 30, atol=1e-6)
     assert table[0, 1:4] @ [0, 0, 1] == pytest.approx(0.0178, abs=1e-4)  # released with its lowest point 1 mm up
     assert set(table[:, -1]) == {0.0, 1.0}  # frames in the air and in the water
-    assert out["trajectory_stone"] == str(tmp_path / "throw.obj") and (tmp_path / "throw.obj").stat().st_size > 500
+    assert out["trajectory_stone"] == str(tmp_path / "throw.stone.obj")
+    assert (tmp_path / "throw.stone.obj").stat().st_size > 500
+
+
+def test_trajectory_never_writes_over_the_stone_it_simulates(tmp_path, capsys):
+    """A stone file named like the trajectory's stone file is refused before anything is simulated or written
+    (it used to be overwritten by its body-frame copy)."""
+    from jaxskip import disk, write_obj
+
+    stone = tmp_path / "mine.stone.obj"
+    write_obj(stone, disk(0.03, 0.006))
+    before = stone.read_bytes()
+    assert main(["throw", "--stone", str(stone), "--trajectory", str(tmp_path / "mine.csv")]) == 2
+    assert "would write the stone's body-frame mesh over --stone" in capsys.readouterr().err
+    assert stone.read_bytes() == before and not (tmp_path / "mine.csv").exists()
 
 
 def test_version_and_bare_command(capsys):

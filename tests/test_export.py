@@ -75,9 +75,13 @@ def test_frames_are_evenly_spaced_unit_quaternions_and_flag_the_contacts(default
 def test_csv_and_json_files(default_throw, tmp_path):
     write_trajectory(default_throw, tmp_path / "t.csv", fps=30.0)
     text = (tmp_path / "t.csv").read_text().splitlines()
-    assert text[0].startswith("# jaxskip trajectory: paper stone") and "18 bounces" in text[0]
-    assert text[1] == "# " + ",".join(COLUMNS)
-    table = np.loadtxt(tmp_path / "t.csv", delimiter=",")
+    assert text[0] == ",".join(COLUMNS)  # a plain CSV: column names (with units) first, for any CSV reader
+    import csv
+
+    rows = list(csv.DictReader(open(tmp_path / "t.csv")))
+    assert float(rows[1]["t_s"]) == pytest.approx(1 / 30, abs=1e-6) and rows[0]["in_water"] == "0"
+    assert "18 bounces" in (tmp_path / "t.stone.obj").read_text().splitlines()[0]  # the throw, described
+    table = np.loadtxt(tmp_path / "t.csv", delimiter=",", skiprows=1)
     f = frames(default_throw, fps=30.0)
     assert table.shape == (len(f["time"]), len(COLUMNS))
     np.testing.assert_allclose(table[:, 1:4], f["position"], rtol=1e-8, atol=1e-12)
@@ -85,7 +89,7 @@ def test_csv_and_json_files(default_throw, tmp_path):
     j = json.loads((tmp_path / "t.json").read_text())
     assert j["fps"] == 30.0 and j["units"]["x"] == "m" and len(j["frames"]["t"]) == len(f["time"])
     assert j["frames"]["in_water"] == f["in_water"].tolist()
-    assert j["stone_obj"] == "t.obj"
+    assert j["stone_obj"] == "t.stone.obj" and j["units"]["in_water"] == "bool"
 
 
 def test_the_stone_file_is_in_the_frame_the_quaternions_rotate(default_throw, tmp_path):
@@ -96,7 +100,7 @@ def test_the_stone_file_is_in_the_frame_the_quaternions_rotate(default_throw, tm
     from jaxskip import quaternion as quat
 
     obj = write_trajectory(default_throw, tmp_path / "t.csv", fps=30.0)
-    assert obj == str(tmp_path / "t.obj")
+    assert obj == str(tmp_path / "t.stone.obj")
     mesh = read_obj(obj)  # validated: closed, outward
     f = frames(default_throw, fps=30.0)
     world = mesh.vertices @ np.asarray(quat.to_matrix(f["orientation"][0])).T + f["position"][0]
@@ -130,3 +134,13 @@ def test_throws_of_other_lengths_reuse_one_compiled_program(default_throw):
     f = frames(other)
     assert len(f["time"]) != len(frames(default_throw)["time"])
     assert _carry._cache_size() == before
+
+
+def test_a_fixed_attitude_is_held_in_the_frames():
+    """With attitude="fixed" the simulator holds the quaternion (the spin is recorded, never applied):
+    so do the frames, in flight too (they used to spin the stone forward by up to 144 deg and snap back)."""
+    held = simulate(config=SimConfig(attitude="fixed"))
+    q0 = held.trajectory["orientation"][0]
+    assert np.all(np.abs(held.trajectory["orientation"] - q0) == 0.0)
+    f = frames(held, fps=240.0)
+    np.testing.assert_allclose(f["orientation"], np.broadcast_to(q0, f["orientation"].shape), atol=1e-15)
