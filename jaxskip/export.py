@@ -80,11 +80,12 @@ def frames(result, fps: float = 60.0) -> dict:
     pad = max(64, 1 << (m - 1).bit_length())
     j, tau = np.concatenate([i, np.full(pad - m, i[-1])]), np.concatenate([times - t[i], np.zeros(pad - m)])
     dtype = np.asarray(traj["position"]).dtype
-    pick = lambda k: jnp.asarray(np.asarray(traj[k])[j], dtype=dtype)  # noqa: E731
-    held = result.config.attitude == "fixed"  # the simulator holds q: so do the frames
-    spin = pick("angular_velocity") * (0.0 if held else 1.0)
-    x, v, q = _carry(pick("position"), pick("velocity"), pick("orientation"), spin,
-                     jnp.asarray(tau, dtype=dtype), result.rigid, jnp.asarray(result.water.gravity, dtype))
+    pick = lambda k: np.asarray(traj[k])[j]  # noqa: E731
+    # the simulator holds q in fixed attitude: so do the frames (its recorded spin is never applied)
+    spin = np.zeros_like(pick("angular_velocity")) if result.config.attitude == "fixed" else pick("angular_velocity")
+    x, v, q = _carry(*(jnp.asarray(a, dtype=dtype) for a in (pick("position"), pick("velocity"),
+                                                             pick("orientation"), spin, tau)),
+                     result.rigid, jnp.asarray(result.water.gravity, dtype))
     return {"time": times, "position": np.asarray(x)[:m], "orientation": np.asarray(q)[:m],
             "velocity": np.asarray(v)[:m], "in_water": np.asarray(traj["wetted_area"])[i] > 0.0}
 
