@@ -127,3 +127,52 @@ def test_a_stone_step_longer_than_the_water_step_gets_water_substeps(paper, wate
     assert int(tr.contacts) >= 1 and float(state.time) > 0.1
     np.testing.assert_allclose(float(f.water.time), float(state.time), rtol=1e-12)
     assert np.all(np.isfinite(np.asarray(f.water.height)))
+
+
+
+_FOUR_STEPS = """
+import jax, jax.numpy as jnp, numpy as np
+from jaxskip import SimConfig, Throw, paper_stone, rigid_stone, water_params
+from jaxskip.coupled import initial_field, make_coupled_step
+from jaxskip.simulate import _new_tracker, initial_state
+from jaxskip.water import WaterGrid
+assert not jax.config.jax_enable_x64
+grid = WaterGrid(shape=(24, 24), spacing=0.01, depth=0.02, boundary="sponge", sponge_width=4, clamp="smooth")
+config, stone, water = SimConfig(record=False), rigid_stone(paper_stone(), density=2650.0), water_params()
+step = make_coupled_step(config, grid)
+def body(c, _):
+    c1, _ = step(c, stone, water)
+    return c1, (c1[2].water.time != c[2].water.time, c1[0].time - c[0].time)
+s0 = initial_state(Throw.from_degrees(), stone)
+carry = (s0, _new_tracker(config.max_contacts, s0.position.dtype), initial_field(grid, s0.position))
+last, (advanced, h) = jax.jit(lambda c: jax.lax.scan(body, c, None, length=700))(carry)
+assert last[2].water.height.dtype == jnp.float32
+fine = np.abs(np.asarray(h, np.float64) - config.dt) < 1e-3 * config.dt
+run, intervals = 0, []
+for adv, f in zip(np.asarray(advanced), fine):
+    run = run + 1 if f else -10_000  # an interval with a flight jump in it is not counted
+    if adv:
+        if run > 0:
+            intervals.append(run)
+        run = 0
+import json
+values, counts = np.unique(intervals, return_counts=True)
+print(json.dumps({"contacts": int(last[1].contacts), "intervals": {str(v): int(n) for v, n in zip(values, counts)}}))
+"""
+
+
+def test_in_contact_the_water_steps_every_four_stone_steps_in_float32():
+    """Four fine stone steps (0.25 ms) make one water step (1 ms) in float32 as in float64: the due
+    test allows half a fine step, so the round-off of float32 times cannot make an interval of five
+    (a relative tolerance of 1e-9 let 90 of the default throw's ~240 contact intervals take five)."""
+    import json
+    import subprocess
+    import sys
+
+    out = subprocess.run([sys.executable, "-c", _FOUR_STEPS], capture_output=True, text=True, timeout=300)
+    assert out.returncode == 0, out.stderr[-2000:]
+    line = out.stdout.strip().splitlines()[-1]
+    result = json.loads(line)
+    counts = result["intervals"]  # {stone steps per water interval: how many}
+    assert result["contacts"] >= 3 and sum(counts.values()) >= 50, line
+    assert set(counts) == {"4"}, line
