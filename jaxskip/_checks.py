@@ -107,7 +107,7 @@ def check_array(name: str, value, low: float, high: float, *, unit: str = "", lo
                              "before tracing; inside jit, vmap or grad build the throw with Throw(...) directly")
     try:
         raw = np.asarray(value)
-        if raw.dtype == np.bool_:
+        if raw.dtype.kind not in "iuf":  # not bools, complex numbers, None or strings
             raise TypeError
         arr = np.asarray(raw, dtype=np.float64)
     except (TypeError, ValueError):

@@ -19,8 +19,9 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
+from ._docs import document_fields
 from ._arrays import float_array
-from ._checks import ParameterError, check_int, check_positive, check_range
+from ._checks import ParameterError, check_bool, check_int, check_positive, check_range
 from .body import DENSITY_RANGE, RigidStone, rigid_stone
 from .forces import WaterParams, water_params
 from .mesh import TriMesh
@@ -32,6 +33,7 @@ from .throw import Throw
 from .water import WaterGrid, total_volume
 
 
+@document_fields
 @dataclasses.dataclass(frozen=True)
 class Contact:
     """One contact of the stone with the water."""
@@ -64,6 +66,7 @@ class Contact:
         return {k: (v if math.isfinite(v) else None) for k, v in d.items()}
 
 
+@document_fields
 @dataclasses.dataclass(frozen=True)
 class ThrowResult:
     """Outcome of one simulated throw (host values, SI units)."""
@@ -299,6 +302,14 @@ def simulate(
         ``gravity`` and ``rho`` must equal ``water``'s.
         Default None: flat water.
 
+    Returns
+    -------
+    :class:`ThrowResult`: ``bounces``, ``contacts`` (each :class:`Contact`: start and end time [s],
+    position along the heading [m], tilt in and out [rad]), ``distance`` [m], ``outcome`` (``sank``,
+    ``stopped``, ``flipped``, ``time_limit`` or ``step_limit``), ``final_time`` [s], the per-step
+    ``trajectory`` (SI arrays), the resolved throw, config, stone and water; ``help(ThrowResult)``
+    lists every field with its units.
+
     Examples
     --------
     >>> from jaxskip import Throw, simulate
@@ -317,6 +328,7 @@ def simulate(
                              "(use simulate_batch or jax.vmap(rollout) for batches)")
     config = checked_config(config)
     chunk = check_int("chunk", chunk, minimum=1)
+    progress = check_bool("progress", progress)
     water = _default_water(config.force.law, x64) if water is None else checked_water(water)
     rigid, name = resolve_stone(stone, mass=mass, density=density)
 

@@ -27,13 +27,15 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from ._checks import ParameterError, check_int
+from ._docs import document_fields
+from ._checks import ParameterError, check_bool, check_int
 from .api import checked_config, checked_water, resolve_stone
 from .forces import WaterParams, water_params
 from .simulate import OUTCOMES, SimConfig, StoneState, Tracker, _new_tracker, _scan, initial_state, make_step
 from .throw import Throw
 
 
+@document_fields
 @dataclasses.dataclass(frozen=True)
 class BatchResult:
     """Outcomes of ``N`` throws (host NumPy arrays, SI units)."""
@@ -157,6 +159,7 @@ def simulate_batch(
     if len(throws.shape) != 1 or throws.shape[0] < 1:
         raise ParameterError(f"throws must have exactly one batch axis with at least one throw; got shape {throws.shape}")
     config = checked_config(config)
+    progress = check_bool("progress", progress)
     sharding = _lane_sharding()
     n_devices = 1 if sharding is None else len(sharding.mesh.devices.flat)
     lanes = default_lanes(throws.shape[0], n_devices) if lanes is None else check_int(

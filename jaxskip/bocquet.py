@@ -37,11 +37,13 @@ import math
 import jax
 import jax.numpy as jnp
 
+from ._docs import document_fields
 from ._checks import ParameterError, check_choice, check_int, check_positive, check_range
 
 SHAPES = ("square", "disk")
 
 
+@document_fields
 @dataclasses.dataclass(frozen=True)
 class ReducedStone:
     """A flat stone for the reduced model (static, hashable). SI units."""
@@ -59,6 +61,7 @@ class ReducedStone:
         check_positive("mass", self.mass, unit="kg")
 
 
+@document_fields
 @jax.tree_util.register_dataclass
 @dataclasses.dataclass(frozen=True)
 class ReducedResult:

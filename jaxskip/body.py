@@ -10,14 +10,15 @@ import dataclasses
 import math
 
 import jax
-import jax.numpy as jnp
 import numpy as np
 
+from ._docs import document_fields
 from ._arrays import float_array
 from ._checks import ParameterError, check_positive, check_range
 from .mesh import TriMesh, mass_properties, validate_mesh
 
 
+@document_fields
 @jax.tree_util.register_dataclass
 @dataclasses.dataclass(frozen=True)
 class RigidStone:
@@ -65,6 +66,12 @@ def principal_axes(inertia: np.ndarray) -> np.ndarray:
 #: is flung about by its first contact and flips 0.01 s after release in the default throw.
 DENSITY_RANGE = (100.0, 25000.0)
 
+#: Sizes [m] a stone may have: its bounding radius (largest distance of a vertex from the centre of
+#: mass), from a 1 mm grain to a 1 m slab. The force laws are for skipping stones; outside this a mesh
+#: is most likely in other units (an OBJ written in millimetres makes the paper stone a 50 m, 10^8 kg
+#: boulder that still "skips" 53 times).
+RADIUS_RANGE = (1e-3, 1.0)
+
 
 def _round_inside(low: float, high: float, digits: int = 3) -> tuple[float, float]:
     """``(low, high)`` rounded to ``digits`` significant digits inwards (low up, high down): every value
@@ -86,7 +93,8 @@ def rigid_stone(mesh: TriMesh, *, density: float | None = None, mass: float | No
 
     Parameters
     ----------
-    mesh : a closed, outward-oriented :class:`jaxskip.mesh.TriMesh` [m].
+    mesh : a closed, outward-oriented :class:`jaxskip.mesh.TriMesh` [m], of bounding radius within
+        :data:`RADIUS_RANGE` (1 mm - 1 m).
     density : uniform density [kg/m^3], within :data:`DENSITY_RANGE` (100-25000); or
     mass : total mass [kg] (exactly one of the two), such that the mesh's density lies in that range.
 
@@ -116,6 +124,12 @@ def rigid_stone(mesh: TriMesh, *, density: float | None = None, mass: float | No
                 f"(density {float(mass) / volume:.3g} kg/m^3)")
     axes = principal_axes(np.asarray(props.inertia, dtype=np.float64))
     v = (np.asarray(mesh.vertices, dtype=np.float64) - np.asarray(props.center_of_mass)) @ axes
+    radius = float(np.max(np.linalg.norm(v, axis=1)))
+    if not RADIUS_RANGE[0] <= radius <= RADIUS_RANGE[1]:
+        raise ParameterError(
+            f"stone {mesh.name!r}: its size (bounding radius) must be in [{RADIUS_RANGE[0] * 1e3:g} mm, "
+            f"{RADIUS_RANGE[1]:g} m], got {radius:.4g} m; vertices are read in metres (an OBJ in millimetres needs "
+            "scaling by 0.001)")
     tri = v[np.asarray(mesh.faces)]
     cross = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
     area2 = np.linalg.norm(cross, axis=1)
@@ -129,6 +143,6 @@ def rigid_stone(mesh: TriMesh, *, density: float | None = None, mass: float | No
         mass=f(float(props.mass)),
         inertia=f(inertia),
         inv_inertia=f(np.linalg.inv(inertia)),
-        radius=f(float(np.max(np.linalg.norm(v, axis=1)))),
+        radius=f(radius),
         thickness=f(float(np.ptp(v[:, 2]))),
     )

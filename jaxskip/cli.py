@@ -18,6 +18,9 @@ import sys
 import warnings
 
 from ._checks import ParameterError, check_range
+from .body import DENSITY_RANGE
+from .forces import COEFFICIENT_MAX
+from .throw import MAX_HEADING, MAX_HEIGHT, MAX_SPEED, MAX_SPIN
 from .settings import SIM_DEFAULTS, describe, environment, simulation  # noqa: F401 (shared with cli_search)
 
 EXIT_USAGE = 2
@@ -64,22 +67,24 @@ def add_common(p, *, stone="paper", attitude="free", plot="write a picture (PNG/
     p.add_argument("--stone", metavar="NAME|PATH.obj",
                    help=f"paper, disk, clanet, ellipsoid, pebble, or an .obj file in metres (default {stone})")
     m = p.add_mutually_exclusive_group()
-    m.add_argument("--mass", type=_float("--mass"), metavar="KG", help="stone mass [kg] (default: from density)")
-    m.add_argument("--density", type=_float("--density"), metavar="KG/M3", help="stone density [kg/m^3]")
+    m.add_argument("--mass", type=_float("--mass"), metavar="KG", help="stone mass [kg], such that the density is in "
+                   f"[{DENSITY_RANGE[0]:g}, {DENSITY_RANGE[1]:g}] kg/m^3 (default: from the density)")
+    m.add_argument("--density", type=_float("--density"), metavar="KG/M3", help=f"stone density [kg/m^3], in [{DENSITY_RANGE[0]:g}, {DENSITY_RANGE[1]:g}] (default: the stone's own)")
     p.add_argument("--force-law", choices=("bocquet", "seed"), help="water force law (default bocquet)")
-    p.add_argument("--c-lift", type=_float("--c-lift"), help="lift coefficient (default: the law's)")
-    p.add_argument("--c-friction", type=_float("--c-friction"), help="friction coefficient (default: the law's)")
+    p.add_argument("--c-lift", type=_float("--c-lift"), help=f"lift coefficient, in [0, {COEFFICIENT_MAX:g}] (default: the law's)")
+    p.add_argument("--c-friction", type=_float("--c-friction"), help=f"friction coefficient, in [0, {COEFFICIENT_MAX:g}] (default: the law's)")
     p.add_argument("--velocity", choices=("body", "local"),
                    help="velocity the water sees: centre of mass (body, default) or each triangle's v + w x r")
     p.add_argument("--attitude", choices=("free", "fixed"),
                    help=f"6-DoF (free) or tilt held (fixed) (default {attitude})")
     p.add_argument("--integrator", choices=("euler", "rk4"), help="time integrator (default euler)")
-    p.add_argument("--duration", type=_float("--duration"), metavar="S", help="simulated time limit [s] (default 5)")
+    p.add_argument("--duration", type=_float("--duration"), metavar="S", help="simulated time limit [s], > 0 (default 5)")
     p.add_argument("--dt", type=_float("--dt"), metavar="S",
-                   help="time step in contact [s], up to 0.01 (default 2.5e-4; above 1e-3 answers are unconverged: "
+                   help="time step in contact [s], in (0, 0.01] (default 2.5e-4; above 1e-3 answers are unconverged: "
                         "a warning says so)")
     p.add_argument("--max-steps", type=int, metavar="N",
-                   help="step budget (default: enough to spend --duration in the water at --dt; 20000 at the defaults)")
+                   help="step budget, in [1, 10^7] (default: enough to spend --duration in the water at --dt; "
+                        "20250 at the defaults)")
     p.add_argument("--json", action="store_true", help="print one JSON object on stdout")
     p.add_argument("--plot", metavar="PATH", help=plot)
 
@@ -129,16 +134,21 @@ def build_parser() -> argparse.ArgumentParser:
     sub = p.add_subparsers(dest="command", required=True, parser_class=_Parser)
     t = sub.add_parser("throw", help="simulate one throw (flat water, or a coupled height field: --water field)",
                        description="Simulate one throw. With no options: a good default throw that skips many times.")
-    t.add_argument("--speed", type=_float("--speed"), default=8.0, metavar="M/S", help="speed [m/s] (default 8)")
+    t.add_argument("--speed", type=_float("--speed"), default=8.0, metavar="M/S",
+                   help=f"speed [m/s], in (0, {MAX_SPEED:g}] (default 8)")
     t.add_argument("--tilt", type=_float("--tilt"), default=20.0, metavar="DEG",
                    help="face angle to the water, leading edge up [deg], in (-90, 90) (default 20)")
     t.add_argument("--attack", type=_float("--attack"), default=5.0, metavar="DEG",
                    help="velocity angle below the horizontal [deg], in [-90, 90] (default 5)")
     t.add_argument("--spin", type=_float("--spin"), default=20.0, metavar="REV/S",
-                   help="spin about the face normal [rev/s], in [-500, 500] (default 20)")
+                   help=f"spin about the face normal [rev/s], + is counter-clockwise seen from above, in "
+                        f"[{-MAX_SPIN / (2 * math.pi):g}, {MAX_SPIN / (2 * math.pi):g}] (default 20)")
     t.add_argument("--height", type=_float("--height"), default=0.001, metavar="M",
-                   help="clearance of the lowest point above the water at release [m] (default 0.001)")
-    t.add_argument("--heading", type=_float("--heading"), default=0.0, metavar="DEG", help="direction [deg] (default 0)")
+                   help=f"clearance of the lowest point above the water at release [m], in [0, {MAX_HEIGHT:g}] "
+                        "(default 0.001)")
+    t.add_argument("--heading", type=_float("--heading"), default=0.0, metavar="DEG",
+                   help=f"direction of travel [deg], counter-clockwise from +x seen from above, in "
+                        f"[-{MAX_HEADING:g}, {MAX_HEADING:g}] (default 0)")
     add_common(t, plot="write the side view (PNG/PDF/SVG)")
     t.add_argument("--water", choices=("flat", "field"), default="flat",
                    help="flat water (default, the validated model) or a two-way coupled height field in a "
@@ -171,7 +181,8 @@ def _summary(result) -> str:
         for i, c in enumerate(result.contacts[:40]):
             lines.append(
                 f"{i + 1:3d}   {c.t_start:8.3f}   {1e3 * (c.t_end - c.t_start):9.1f}   {c.x:6.2f}   "
-                f"{math.degrees(c.tilt_start):6.1f} -> {math.degrees(c.tilt_end):6.1f}"
+                f"{math.degrees(c.tilt_start):6.1f} -> "
+                + (f"{math.degrees(c.tilt_end):6.1f}" if math.isfinite(c.tilt_end) else "   (in the water at the end)")
             )
         if len(result.contacts) > 40:
             lines.append(f"  ... {len(result.contacts) - 40} more")
@@ -254,7 +265,7 @@ def _throw(args) -> int:
             w = result.field
             print(f"water: height field {w['shape'][0]}x{w['shape'][1]} columns of {w['spacing'] * 100:g} cm, "
                   f"depth {w['depth'] * 100:g} cm, step {w['time_step'] * 1e3:g} ms, clamp {w['clamp']}; "
-                  f"window volume change {w['volume_change']:+.2e}")
+                  f"window volume change {w['volume_change']:+.2e} (relative)")
         for label, key in (("picture", "plot"), ("ripples", "water_plot"), ("animation", "animate"),
                            ("trajectory", "trajectory")):
             if getattr(args, key):

@@ -8,6 +8,7 @@ that the chosen method (or sweep kind) does not use is refused, not ignored.
 
 from __future__ import annotations
 
+import math
 import sys
 
 from ._checks import ParameterError, check_int
@@ -39,16 +40,23 @@ def _only(p, table, flag, text, **kw):
 
 def add_parsers(sub) -> None:
     """Add the ``optimize`` and ``sweep`` subcommands to ``sub``."""
+    # The valid ranges in the flags' help come from the constants the checks use (not copied by hand).
+    from optimize.bounds import LIMITS
+    from optimize.sweep import limit_text
+
     o = sub.add_parser("optimize", help="search for the throw with the most bounces", description=(
         "Search the throw parameters within bounds for the most bounces (true counts from the exact "
         "simulation). Each parameter is searched over --NAME-range LOW HIGH (default: the human box "
-        "speed 3-12 m/s, tilt 5-45 deg, attack 0-30 deg, spin 0-20 rev/s) or held with --NAME VALUE. "
+        "speed 3-12 m/s, tilt 5-45 deg, attack 0-30 deg, spin 0-20 rev/s) or held with --NAME VALUE, within "
+        "the search's limits (each flag's help), which are narrower than jaxskip throw's. "
         "The simulation flags are jaxskip throw's."))
     for name, meta, text, (lo, hi) in RANGES:
+        low, high, _ = LIMITS[name]
         g = o.add_mutually_exclusive_group()
         g.add_argument(f"--{name}-range", nargs=2, type=_float(f"--{name}-range"), metavar=("LOW", "HIGH"),
-                       help=f"search {text} in [LOW, HIGH] (default {lo:g} {hi:g})")
-        g.add_argument(f"--{name}", type=_float(f"--{name}"), metavar=meta, help=f"hold {text} at this value")
+                       help=f"search {text} in [LOW, HIGH], within [{low:g}, {high:g}] (default {lo:g} {hi:g})")
+        g.add_argument(f"--{name}", type=_float(f"--{name}"), metavar=meta,
+                       help=f"hold {text} at this value, in [{low:g}, {high:g}]")
     o.add_argument("--method", choices=METHODS, default=GRADIENT,
                    help="gradient (optax on the smooth count, default), perturbation (randomised smoothing), "
                         "grid or random (exhaustive baselines)")
@@ -80,15 +88,16 @@ def add_parsers(sub) -> None:
         "there, and --shard-index/--num-shards split the chunks between machines."))
     s.add_argument("kind", choices=KINDS + ("merge",))
     s.add_argument("folders", nargs="*", metavar="FOLDER", help="(merge) the shards' --out folders")
-    _only(s, SWEEP_FLAGS, "--tilts", "tilts [deg]: N values from A to B, or a list (default 5:60:12)",
-          metavar="A:B:N|A,B,...")
-    _only(s, SWEEP_FLAGS, "--attacks", "attack angles [deg] (default 20 for umin, 0:60:13 for domain)",
-          metavar="A:B:N|A,B,...")
-    _only(s, SWEEP_FLAGS, "--speed", "speed [m/s] (default 3.5)", type=_float("--speed"), metavar="M/S")
-    _only(s, SWEEP_FLAGS, "--speed-range", "bisection bracket [m/s] (default 0.5 8)", nargs=2,
-          type=_float("--speed-range"), metavar=("LOW", "HIGH"))
+    _only(s, SWEEP_FLAGS, "--tilts", f"tilts, each in {limit_text('tilt')}: N values from A to B, or a "
+          "comma list (default 5:60:12)", metavar="A:B:N|A,B,...")
+    _only(s, SWEEP_FLAGS, "--attacks", f"attack angles, each in {limit_text('attack')}: as --tilts "
+          "(default 20 for umin, 0:60:13 for domain)", metavar="A:B:N|A,B,...")
+    _only(s, SWEEP_FLAGS, "--speed", f"speed, in {limit_text('speed')} (default 3.5)", type=_float("--speed"),
+          metavar="M/S")
+    _only(s, SWEEP_FLAGS, "--speed-range", f"bisection bracket, within {limit_text('speed')} (default 0.5 8)",
+          nargs=2, type=_float("--speed-range"), metavar=("LOW", "HIGH"))
     _only(s, SWEEP_FLAGS, "--iterations", "bisection steps (default 10)", type=int, metavar="N")
-    _only(s, SWEEP_FLAGS, "--spin", "spin [rev/s], in [-500, 500] (default 65)", type=_float("--spin"),
+    _only(s, SWEEP_FLAGS, "--spin", f"spin, in {limit_text('spin')} (default 65)", type=_float("--spin"),
           metavar="REV/S")
     s.add_argument("--out", metavar="DIR", help="folder (its parent must exist) for chunk files and "
                    "result.json/result.csv; re-running resumes there")
@@ -114,7 +123,8 @@ def _check_used(args, label: str, choice: str, table: dict) -> None:
 
 
 def _values(text: str, name: str) -> list:
-    """``"A:B:N"`` -> N values from A to B; ``"A,B,C"`` -> the list (degrees)."""
+    """``"A:B:N"`` -> N values from A to B; ``"A,B,C"`` -> the list (degrees). Refused, naming the flag: an
+    empty text, an empty item (``5,,10``, ``5,``), anything that is not a number."""
     import numpy as np
 
     try:
@@ -124,9 +134,13 @@ def _values(text: str, name: str) -> list:
             if n < 1:
                 raise ValueError
             return np.linspace(float(a), float(b), n).round(10).tolist()
-        return [float(v) for v in text.split(",") if v.strip()]
+        items = text.split(",")
+        if any(not v.strip() for v in items):
+            raise ValueError
+        return [float(v) for v in items]
     except ValueError:
-        raise ParameterError(f"{name} must be A:B:N (N >= 1) or a comma list of numbers, got {text!r}") from None
+        raise ParameterError(f"{name} must be A:B:N (N >= 1 values from A to B) or a comma list of numbers such as "
+                             f"5,10,20 (no empty items), got {text!r}") from None
 
 
 def run_optimize(args) -> int:
@@ -213,8 +227,10 @@ def run_sweep_command(args) -> int:
         if args.out is None and (args.shard_index, args.num_shards) != (None, None):
             raise ParameterError("--shard-index/--num-shards need --out DIR: a shard's chunks are kept there "
                                  "for `jaxskip sweep merge`")
-        tilts = _values(args.tilts or "5:60:12", "--tilts")
-        attacks = _values(args.attacks or ("20" if args.kind == "umin" else "0:60:13"), "--attacks")
+        # (an empty --tilts "" is refused, not taken for the default)
+        tilts = _values("5:60:12" if args.tilts is None else args.tilts, "--tilts")
+        attacks = _values(("20" if args.kind == "umin" else "0:60:13") if args.attacks is None else args.attacks,
+                          "--attacks")
     import jax
 
     jax.config.update("jax_enable_x64", True)
@@ -227,7 +243,9 @@ def run_sweep_command(args) -> int:
                  if d not in ("tilts", "attacks", "shard_index", "num_shards") and getattr(args, d) is not None}
         spec = make_spec(args.kind, tilts=tilts, attacks=attacks, **given)  # everything validated here
         progress = sys.stderr.isatty() and not args.json
-        shard, shards = args.shard_index or 0, args.num_shards or 1
+        # given values are checked by run_sweep (--num-shards 0 is refused, not taken for 1)
+        shard = 0 if args.shard_index is None else args.shard_index
+        shards = 1 if args.num_shards is None else args.num_shards
         result = run_sweep(spec, args.out, shard_index=shard, num_shards=shards, progress=progress)
         if result is None:
             msg = (f"shard {shard}/{shards} done; chunks in {args.out}; join the shards with "
@@ -246,12 +264,26 @@ def run_sweep_command(args) -> int:
         return 0
     spec = result["spec"]
     if spec["kind"] == "umin":
-        for t, u in zip(spec["tilts"], result["umin"]):
-            shown = f"> {spec['speed_range'][1]:g} (no bounce)" if u is None else f"{u:.2f}"
-            print(f"tilt {t:6.1f} deg: U_min {shown} m/s")
+        low, high = spec["speed_range"]
+        for t, u, n_low in zip(spec["tilts"], result["umin"], result["bounces_at_low"]):
+            if u is None:
+                shown = f"no bounce up to {high:g} m/s"
+            elif n_low > 0:
+                shown = f"U_min <= {low:g} m/s (bounces at the bracket's low end)"
+            else:
+                shown = f"U_min {u:.2f} m/s"
+            print(f"tilt {t:6.1f} deg: {shown}")
         if result["best_tilt"] is not None:
-            print(f"magic angle: {result['best_tilt']:g} deg, U_min {result['best_umin']:.2f} m/s "
-                  f"(+- {result['resolution']:.2g} m/s)")
+            u, res = result["best_umin"], result["resolution"]
+            if u <= low:
+                where = f"it bounces at the bracket's low end: U_min <= {low:g} m/s (lower --speed-range)"
+            else:
+                # the bisection's answer is its final bracket's top (a speed that bounces): the true value lies
+                # within one bracket width below it
+                digits = max(2, 1 - math.floor(math.log10(res))) if res > 0 else 2
+                where = (f"bisection: the true U_min lies in ({u - res:.{digits}f}, {u:.{digits}f}] m/s, a bracket "
+                         f"of {res:.2g} m/s")
+            print(f"magic angle: {result['best_tilt']:g} deg, U_min {u:.2f} m/s ({where})")
             if result["best_tilt_fit"] is not None:
                 print(f"  between grid points (parabola through its neighbours): {result['best_tilt_fit']:.1f} deg, "
                       f"U_min {result['best_umin_fit']:.2f} m/s")

@@ -54,6 +54,7 @@ import math
 import jax
 import jax.numpy as jnp
 
+from ._docs import document_fields
 from .body import RigidStone
 from .forces import WaterParams
 from .simulate import SimConfig, _new_tracker, _scan, initial_state, make_step
@@ -203,6 +204,7 @@ def make_coupled_step(config: SimConfig, grid: WaterGrid, water_dt: float | None
     return step
 
 
+@document_fields
 @jax.tree_util.register_dataclass
 @dataclasses.dataclass(frozen=True)
 class Field:

@@ -119,6 +119,9 @@ def write_trajectory(result, path, fps: float = 60.0) -> str:
     path = os.fspath(path)
     if not path.lower().endswith((".csv", ".json")):
         raise ParameterError(f"path must end in .csv or .json, got {path!r}")
+    folder = os.path.dirname(os.path.abspath(path))
+    if not os.path.isdir(folder):
+        raise ParameterError(f"path's folder must exist, got {path!r} (no folder {folder!r})")
     f = frames(result, fps)
     obj = stone_path(path)
     t = result.throw

@@ -49,6 +49,7 @@ import dataclasses
 import jax
 import jax.numpy as jnp
 
+from ._docs import document_fields
 from . import clipping, quaternion
 from ._arrays import face_sum, float_array
 from ._checks import ParameterError, check_bool, check_choice, check_positive, check_range
@@ -58,6 +59,7 @@ FACES = ("leading", "all")
 VELOCITIES = ("local", "body")
 
 
+@document_fields
 @dataclasses.dataclass(frozen=True)
 class ForceModel:
     """Static (hashable) choices of the water-force model; changing one recompiles."""
@@ -90,6 +92,7 @@ class ForceModel:
             object.__setattr__(self, "sharpness", check_positive("sharpness", self.sharpness, unit="1/m"))
 
 
+@document_fields
 @jax.tree_util.register_dataclass
 @dataclasses.dataclass(frozen=True)
 class WaterParams:

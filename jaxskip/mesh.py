@@ -22,6 +22,9 @@ from pathlib import Path
 
 import numpy as np
 
+from ._docs import document_fields
+from ._checks import ParameterError
+
 __all__ = [
     "MeshError",
     "TriMesh",
@@ -40,8 +43,9 @@ MAX_OBJ_BYTES = 50 * 1024 * 1024
 DEGENERATE_AREA_FRACTION = 1e-12
 
 
-class MeshError(ValueError):
-    """A mesh, a mesh file or a mesh-related parameter is invalid."""
+class MeshError(ParameterError):
+    """A mesh, a mesh file or a mesh-related parameter is invalid (a :class:`jaxskip.ParameterError`,
+    so one ``except jaxskip.ParameterError`` catches every refused input)."""
 
 
 # ---------------------------------------------------------------------------
@@ -108,6 +112,7 @@ def _signed_volume(vertices: np.ndarray, faces: np.ndarray) -> float:
 # ---------------------------------------------------------------------------
 
 
+@document_fields
 @dataclasses.dataclass(frozen=True, eq=False)
 class TriMesh:
     """An immutable triangle mesh of a closed surface.
@@ -297,6 +302,7 @@ def _check_edges(faces: np.ndarray, n_vertices: int, name: str) -> None:
 # ---------------------------------------------------------------------------
 
 
+@document_fields
 @dataclasses.dataclass(frozen=True, eq=False)
 class MassProperties:
     """Rigid-body mass properties of a uniform solid."""

@@ -28,11 +28,17 @@ def simulation(*, stone, mass, density, force_law, c_lift, c_friction, velocity,
     """
     from . import ForceModel, SimConfig, water_params
     from .api import resolve_stone
-    from .simulate import steps_for
+    from ._checks import check_range
+    from .simulate import MAX_DT, MAX_STEPS, steps_for
 
     if isinstance(stone, (str, os.PathLike)) and os.path.isdir(stone):
         raise ParameterError(f"stone {str(stone)!r} is a directory, not a stone name or an .obj file")
-    max_steps = steps_for(duration, dt) if max_steps is None else max_steps
+    if max_steps is None:
+        dt = check_range("dt", dt, 0.0, MAX_DT, unit="s", low_open=True)  # (the message SimConfig would give)
+        max_steps = steps_for(duration, dt)
+        if max_steps > MAX_STEPS:  # (named after what the user gave, not the derived step budget)
+            raise ParameterError(f"duration ({duration:g} s) needs {max_steps} steps of dt = {dt:g} s, more than the "
+                                 f"{MAX_STEPS} a run may take: shorten duration or lengthen dt")
     config = SimConfig(dt=dt, duration=duration, max_steps=max_steps, integrator=integrator, attitude=attitude,
                        force=ForceModel(law=force_law, velocity=velocity))
     water = water_params(force_law, c_lift=c_lift, c_friction=c_friction)

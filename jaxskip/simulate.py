@@ -47,6 +47,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
+from ._docs import document_fields
 from . import quaternion as quat
 from ._arrays import face_max, face_min
 from ._checks import ParameterError, check_bool, check_choice, check_int, check_positive, check_range
@@ -66,10 +67,21 @@ OUTCOMES = ("running", "sank", "stopped", "flipped", "time_limit", "step_limit")
 # Contact phases.
 AIR, WET, LEAVING = 0, 1, 2
 
+MAX_STEPS = 10_000_000
+"""Largest accepted ``SimConfig.max_steps``."""
+MAX_DT = 0.01
+"""Largest accepted ``SimConfig.dt`` [s] (above :data:`ACCURATE_DT` answers are unconverged)."""
 
+
+@document_fields
 @dataclasses.dataclass(frozen=True)
 class SimConfig:
-    """Static simulation settings (hashable; a change recompiles, a new throw does not)."""
+    """Static simulation settings (hashable; a change recompiles, a new throw does not).
+
+    >>> config = SimConfig(dt=1e-4, duration=2.0, max_steps=steps_for(2.0, 1e-4), attitude="fixed")
+    >>> config.max_steps, config.record
+    (20250, True)
+    """
 
     dt: float = 2.5e-4
     """Time step in and near the water [s], in (0, 0.01]. Above :data:`ACCURATE_DT` (1 ms) answers are
@@ -77,7 +89,7 @@ class SimConfig:
     (:class:`AccuracyWarning`)."""
     duration: float = 5.0
     """Simulated time limit [s], > 0."""
-    max_steps: int = 20000
+    max_steps: int = 20250
     """Scan length: steps available for contacts and flights (outcome ``step_limit`` if too few).
     The default is :func:`steps_for` of the default ``duration`` and ``dt``: a stone may stay in the
     water for the whole ``duration`` and still end by ``time_limit``, not ``step_limit`` (12000
@@ -102,7 +114,7 @@ class SimConfig:
     record: bool = True
     """Return per-step records (a bool): time, position, attitude, wetted area, water force, gap, velocity
     and angular velocity, 19 numbers a step (76 / 152 B in float32 / float64: 1.5 / 3 MB for a
-    vmapped 20000-step scan per throw); off for big batches."""
+    vmapped 20250-step scan per throw); off for big batches."""
     segment: int = 50
     """Steps per segment. The scan runs in segments of this many steps; a segment that begins
     with the stone out of play is skipped whole, in the forward and the reverse pass, so a throw
@@ -118,9 +130,9 @@ class SimConfig:
     def __post_init__(self):
         # (checked values stored as plain floats: a NumPy scalar or 0-d array would not hash)
         set_ = functools.partial(object.__setattr__, self)
-        set_("dt", check_range("dt", self.dt, 0.0, 0.01, unit="s", low_open=True))
+        set_("dt", check_range("dt", self.dt, 0.0, MAX_DT, unit="s", low_open=True))
         set_("duration", check_positive("duration", self.duration, unit="s"))
-        check_int("max_steps", self.max_steps, minimum=1, maximum=10_000_000)
+        check_int("max_steps", self.max_steps, minimum=1, maximum=MAX_STEPS)
         check_choice("integrator", self.integrator, INTEGRATORS)
         check_choice("attitude", self.attitude, ATTITUDES)
         check_choice("flight", self.flight, FLIGHTS)
@@ -172,19 +184,22 @@ def warn_if_coarse(config: "SimConfig", stacklevel: int = 3) -> None:
 
 
 def steps_for(duration: float, dt: float, multiple: int = 250) -> int:
-    """Steps that cover ``duration`` [s] in the water at ``dt`` [s]: ``ceil(duration / dt)`` rounded up
-    to a multiple of ``multiple`` (so that :func:`jaxskip.simulate_batch` finds a chunk of that size).
+    """Steps that let a stone spend ``duration`` [s] in the water at ``dt`` [s] and still end by
+    ``time_limit``: ``ceil(duration / dt) + 1`` (the outcome is decided at the start of a step, so the
+    step after the last one of ``duration`` is the one that ends it), rounded up to a multiple of
+    ``multiple`` (so that :func:`jaxskip.simulate_batch` finds a chunk of that size).
 
     >>> steps_for(5.0, 2.5e-4), steps_for(1.0, 1e-4)
-    (20000, 10000)
+    (20250, 10250)
     """
     check_positive("duration", duration, unit="s")
     check_positive("dt", dt, unit="s")
     check_int("multiple", multiple, minimum=1)
-    n = math.ceil(duration / dt - 1e-9)
+    n = math.ceil(duration / dt - 1e-9) + 1
     return int(multiple * math.ceil(n / multiple))
 
 
+@document_fields
 @jax.tree_util.register_dataclass
 @dataclasses.dataclass(frozen=True)
 class StoneState:
@@ -206,6 +221,7 @@ class StoneState:
 _ALIVE, _OUTCOME, _PHASE, _BOUNCES, _CONTACTS, _CONTACT_STEPS = range(6)
 
 
+@document_fields
 @jax.tree_util.register_dataclass
 @dataclasses.dataclass(frozen=True)
 class Tracker:
@@ -324,6 +340,7 @@ class Tracker:
         return dataclasses.replace(self, counters=c)
 
 
+@document_fields
 @jax.tree_util.register_dataclass
 @dataclasses.dataclass(frozen=True)
 class Record:
@@ -800,6 +817,14 @@ def rollout(config: SimConfig, throw: Throw, stone: RigidStone, water: WaterPara
     validated here, so that the function can be traced: check concrete throws first
     (:meth:`Throw.check`, as :func:`jaxskip.simulate` and :func:`jaxskip.simulate_batch` do),
     and build ``water`` with :func:`jaxskip.water_params`.
+
+    >>> import jax
+    >>> from jaxskip import SimConfig, Throw, paper_stone, rigid_stone, water_params
+    >>> stone, water = rigid_stone(paper_stone(), density=2650.0), water_params()
+    >>> config = SimConfig(record=False)
+    >>> state, tracker, _ = jax.jit(lambda t: rollout(config, t, stone, water))(Throw.from_degrees())
+    >>> int(tracker.bounces) > 5, OUTCOMES[int(tracker.outcome)]
+    (True, 'sank')
     """
     state = initial_state(throw, stone)
     carry = (state, _new_tracker(config.max_contacts, state.position.dtype))

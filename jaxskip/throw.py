@@ -20,6 +20,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
+from ._docs import document_fields
 from . import quaternion
 from ._arrays import float_array
 from ._checks import ParameterError, check_array
@@ -28,8 +29,13 @@ MAX_SPEED = 100.0
 """Largest accepted throw speed [m/s] (far beyond any human or catapult)."""
 MAX_SPIN = 2 * math.pi * 500.0
 """Largest accepted spin [rad/s] (500 rev/s)."""
+MAX_HEIGHT = 100.0
+"""Largest accepted release height [m]."""
+MAX_HEADING = 1e6
+"""Largest accepted |heading| [rad, or deg in :meth:`Throw.from_degrees`]."""
 
 
+@document_fields
 @jax.tree_util.register_dataclass
 @dataclasses.dataclass(frozen=True)
 class Throw:
@@ -70,7 +76,11 @@ class Throw:
         ``Throw.create(tilt=np.linspace(0.1, 0.8, 64))`` is a batch of 64 throws for ``vmap``.
         """
         fields = _checked(speed, tilt, attack, spin, height, heading)
-        shape = np.broadcast_shapes(*(a.shape for a in fields.values()))
+        try:
+            shape = np.broadcast_shapes(*(a.shape for a in fields.values()))
+        except ValueError:
+            raise ParameterError("the throw's parameters must broadcast to one batch shape, got "
+                                 + ", ".join(f"{k} {a.shape}" for k, a in fields.items())) from None
         return cls(**{k: float_array(np.broadcast_to(a, shape)) for k, a in fields.items()})
 
     @classmethod
@@ -85,7 +95,7 @@ class Throw:
         tilt = check_array("tilt", tilt, -90.0, 90.0, unit="degrees", low_open=True, high_open=True)
         attack = check_array("attack", attack, -90.0, 90.0, unit="degrees")
         spin = check_array("spin", spin, -500.0, 500.0, unit="rev/s")
-        heading = check_array("heading", heading, -1e6, 1e6, unit="degrees")
+        heading = check_array("heading", heading, -MAX_HEADING, MAX_HEADING, unit="degrees")
         return cls.create(speed=speed, tilt=np.radians(tilt), attack=np.radians(attack), spin=2 * math.pi * spin,
                           height=height, heading=np.radians(heading))
 
@@ -123,8 +133,8 @@ def _checked(speed, tilt, attack, spin, height, heading, slack: float = 0.0) -> 
         tilt=check_array("tilt", tilt, -pi2 * w, pi2 * w, unit="rad", low_open=True, high_open=True),
         attack=check_array("attack", attack, -pi2 * w, pi2 * w, unit="rad"),
         spin=check_array("spin", spin, -MAX_SPIN * w, MAX_SPIN * w, unit="rad/s"),
-        height=check_array("height", height, 0.0, 100.0 * w, unit="m"),
-        heading=check_array("heading", heading, -1e6 * w, 1e6 * w, unit="rad"),
+        height=check_array("height", height, 0.0, MAX_HEIGHT * w, unit="m"),
+        heading=check_array("heading", heading, -MAX_HEADING * w, MAX_HEADING * w, unit="rad"),
     )
 
 

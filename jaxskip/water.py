@@ -117,6 +117,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
+from ._docs import document_fields
 from ._checks import ParameterError, check_choice, check_int, check_positive, check_range, check_real
 
 CLAMPS = ("reference", "zero", "smooth")
@@ -125,6 +126,7 @@ MAX_COLUMNS = 4096 * 4096
 _MARGIN = 1e-9   # relative: a column drained by the clamp keeps ~1e-9 of its outflow, above round-off
 
 
+@document_fields
 @dataclasses.dataclass(frozen=True)
 class WaterGrid:
     """Static (hashable) description of a height-field grid. SI units."""
@@ -240,6 +242,7 @@ def water_substeps(grid: WaterGrid, dt: float) -> int:
     return max(1, math.ceil(dt / grid.time_step - 1e-12))
 
 
+@document_fields
 @jax.tree_util.register_dataclass
 @dataclasses.dataclass(frozen=True)
 class WaterState:

@@ -19,6 +19,7 @@ import numpy as np
 
 from jaxskip import Throw
 from jaxskip._checks import ParameterError, check_real
+from jaxskip._docs import document_fields
 
 #: Physical limits of each throw parameter in user units: (low, high, unit).
 LIMITS = {
@@ -53,6 +54,7 @@ def check_interval(name: str, value, low: float, high: float, *, unit: str = "")
     return lo, hi
 
 
+@document_fields
 @dataclasses.dataclass(frozen=True)
 class Box:
     """Bounds of a search, user units (m/s, deg, rev/s). Static and hashable.

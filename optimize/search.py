@@ -33,8 +33,10 @@ with a grid measured in the same run.
 from __future__ import annotations
 
 import dataclasses
+import numbers
 import sys
 import time
+from collections.abc import Mapping
 
 import jax
 import jax.numpy as jnp
@@ -43,13 +45,15 @@ import optax
 
 from jaxskip import SimConfig, WaterParams, simulate_batch, water_params
 from jaxskip._arrays import float_array
+from jaxskip._docs import document_fields
 from jaxskip._checks import ParameterError, check_int, check_positive, check_range
 from jaxskip.api import checked_config, checked_water, resolve_stone
 
-from .bounds import Box, make_box
+from .bounds import LIMITS, PARAMETERS, Box, make_box
 from .objectives import WIDTH, make_objective
 
 
+@document_fields
 @dataclasses.dataclass(frozen=True)
 class SearchResult:
     """Outcome of a search (user units: m/s, deg, rev/s)."""
@@ -172,13 +176,44 @@ class _Best:
 
 
 def _as_box(box) -> Box:
-    """``box`` (None: the human box) checked to be a :class:`~optimize.bounds.Box`."""
+    """``box`` as a :class:`~optimize.bounds.Box`: None is the human box (:data:`~optimize.bounds.HUMAN_BOX`);
+    a dict such as :data:`~optimize.bounds.HUMAN_BOX` maps each searched parameter to ``(low, high)`` and
+    each held one to a value (:func:`~optimize.bounds.make_box`; parameters it leaves out are held at
+    make_box's defaults)."""
     if box is None:
         return make_box()
+    if isinstance(box, Mapping):
+        scalar = {k for k, v in box.items() if isinstance(v, numbers.Real) or np.ndim(v) == 0}
+        return make_box({k: v for k, v in box.items() if k not in scalar}, {k: box[k] for k in scalar})
     if not isinstance(box, Box):
-        raise ParameterError(f"box must be an optimize.Box (make_box({{name: (low, high)}}, {{name: value}})), "
-                             f"got {type(box).__name__}")
+        raise ParameterError(f"box must be an optimize.Box (make_box({{name: (low, high)}}, {{name: value}})) or a "
+                             f"dict such as optimize.HUMAN_BOX, got {type(box).__name__}")
     return box
+
+
+def _check_seed(seed) -> int:
+    """A random seed: an integer >= 0 (NumPy's generators refuse negative ones)."""
+    return check_int("seed", seed, minimum=0)
+
+
+def _check_initial(box: Box, initial) -> dict:
+    """``initial`` {parameter: value}: exactly the searched parameters (a held one is refused, not dropped)."""
+    if not isinstance(initial, Mapping):
+        raise ParameterError(f"initial must be a dict {{parameter: value}} of the searched parameters "
+                             f"({', '.join(box.names)}), got {type(initial).__name__}")
+    held = dict(box.held)
+    for name in initial:
+        if name not in LIMITS:
+            raise ParameterError(f"initial: unknown throw parameter {name!r}; choose from {', '.join(PARAMETERS)}")
+        if name in held:
+            raise ParameterError(f"initial {name} is held at {held[name]:g} {LIMITS[name][2]} by the box, not "
+                                 f"searched: drop it from initial, or search it (make_box({{{name!r}: (low, high)}}))")
+    out = {}
+    for name, lo, hi in box.searched:
+        if name not in initial:
+            raise ParameterError(f"initial must give every searched parameter; missing {name!r}")
+        out[name] = check_range(f"initial {name}", initial[name], lo, hi, unit=LIMITS[name][2])
+    return out
 
 
 def _random_points(box: Box, n: int, rng) -> dict:
@@ -191,15 +226,19 @@ def gradient_search(box: Box | None = None, *, objective: str = "bounces", stone
                     initial: dict | None = None, polish: int = 0, polish_scale: float = 0.03,
                     horizon: int | None = None, water: WaterParams | None = None,
                     progress: bool = False) -> SearchResult:
-    """Multi-start gradient ascent on a smooth objective; returns the best true bounce count found.
+    """Multi-start gradient ascent on a smooth objective; returns a :class:`SearchResult` whose ``best``
+    is the throw with the most true bounces found (``objective="distance"``: the longest true distance).
 
-    ``box`` (default: the human box of :data:`optimize.bounds.HUMAN_BOX`), ``objective``
+    ``box``: a :class:`~optimize.bounds.Box` (:func:`~optimize.bounds.make_box`), or a dict such as
+    :data:`optimize.HUMAN_BOX` ({name: (low, high)} searched, {name: value} held; default: the human
+    box, :data:`optimize.bounds.HUMAN_BOX`). ``objective``
     (``"bounces"``: the smooth count; ``"distance"`` [m]), ``starts`` random starting throws
     (seeded), ``iterations`` Adam steps of ``learning_rate`` in the unconstrained coordinates,
     gradients clipped to global norm ``clip`` per start; a non-finite gradient is replaced by
     zero (and counted in the history). ``width`` [m]: the surrogate's sharpness knob.
     ``initial``: a throw to start from, {parameter: value} in user units for every searched
-    parameter (inside the box); it replaces the first random start.
+    parameter (inside the box), and no other (a held parameter is refused, not dropped); it
+    replaces the first random start. ``seed``: an integer >= 0 (the random starts).
     ``polish``: exact throws spent after the ascent by :func:`local_search` around the (up to 4)
     best distinct throws the ascent visited, each parameter perturbed by ``polish_scale`` times
     its searched range (0: no polish). The history then ends with an entry of ``"phase":
@@ -215,11 +254,24 @@ def gradient_search(box: Box | None = None, *, objective: str = "bounces", stone
     bounces, over fewer e-foldings of the rollout's chaos (its gradients' tail still reaches
     ~1e5 at 1200 steps); true counts always use the whole rollout.
     ``water``: the water's constants (:func:`jaxskip.water_params`; default: the force law's).
+
+    Returns a :class:`SearchResult` (user units: m/s, deg, rev/s): ``best`` the best throw found,
+    {parameter: value} for all four parameters; ``best_bounces`` its true bounce count and
+    ``best_distance`` its true distance [m] (exact simulation); ``forward_throws`` the exact
+    simulations run, ``gradient_evals`` the surrogate's gradient evaluations; ``wall_time``,
+    ``gradient_time`` and ``compile_time`` [s]; ``box``, ``method`` (``"gradient"``) and ``objective``;
+    ``history`` holds one entry per iteration and one after the last step (then the
+    polish's): its ``"iteration"``, each start's true ``"bounces"`` (and ``"distance"`` [m] for the
+    distance objective), its surrogate ``"objective"``, the ``"best"`` count so far, ``"nonfinite"``
+    gradients, ``"points"`` and ``"grad_norm"``.
     """
     t0 = time.perf_counter()
     box = _as_box(box)
     config = checked_config(config)
     objective = _check_objective(objective)
+    seed = _check_seed(seed)
+    if initial is not None:
+        initial = _check_initial(box, initial)
     starts = check_int("starts", starts, minimum=1, maximum=4096)
     iterations = check_int("iterations", iterations, minimum=1, maximum=100_000)
     polish = check_int("polish", polish, minimum=0, maximum=100_000_000)
@@ -252,10 +304,8 @@ def gradient_search(box: Box | None = None, *, objective: str = "bounces", stone
     rng = np.random.default_rng(seed)
     points = _random_points(box, starts, rng)
     if initial is not None:
-        for name, lo, hi in box.searched:
-            if name not in initial:
-                raise ParameterError(f"initial must give every searched parameter; missing {name!r}")
-            points[name][0] = check_range(f"initial {name}", initial[name], lo, hi)
+        for name, value in initial.items():
+            points[name][0] = value
     u = float_array(box.from_user(points))
     place = (lambda a: a) if sharding is None else (lambda a: jax.device_put(a, sharding))  # noqa: E731
     t_compile = time.perf_counter()
@@ -352,6 +402,11 @@ def local_search(box: Box, centres: dict, *, throws: int = 256, scale: float = 0
     ``i mod m``: each searched parameter by a normal deviate of ``scale`` times its range
     (0.03: ±0.27 m/s, ±1.2°, ±0.9°, ±0.6 rev/s in the human box), clipped to the box.
 
+    Returns a :class:`SearchResult` (user units: m/s, deg, rev/s; fields as for :func:`gradient_search`):
+    ``best`` the best throw, ``best_bounces`` its true count, ``best_distance`` its true distance [m],
+    ``forward_throws`` the exact simulations run, ``wall_time`` [s]; ``history`` holds one entry
+    (``"phase": "polish"``): every throw's ``"points"``, true ``"bounces"`` and ``"distance"`` [m].
+
     >>> from optimize import make_box
     >>> box = make_box({"speed": (6.0, 8.0)}, {"tilt": 20.0, "attack": 5.0, "spin": 20.0})
     >>> r = local_search(box, {"speed": [7.0]}, throws=4)
@@ -362,6 +417,7 @@ def local_search(box: Box, centres: dict, *, throws: int = 256, scale: float = 0
     box = _as_box(box)
     config = checked_config(config)
     objective = _check_objective(objective)
+    seed = _check_seed(seed)
     n = check_int("throws", throws, minimum=1, maximum=100_000_000)
     check_range("scale", scale, 0.0, 1.0, low_open=True)
     m = None
@@ -423,12 +479,20 @@ def perturbation_search(box: Box | None = None, *, stone="paper", config: SimCon
     benchmarks/README.md) does not reach the estimate: it is the estimator a chaotic count calls
     for. ``polish``/``polish_scale`` as in :func:`gradient_search`: exact throws near the best
     (up to 4) distinct throws evaluated, centres and samples alike. Every history entry lists the
-    centres it simulated under ``"points"`` (their counts under ``"bounces"``). ``water`` as in
-    :func:`gradient_search`.
+    centres it simulated under ``"points"`` (their counts under ``"bounces"``). ``box``, ``seed`` and
+    ``water`` as in :func:`gradient_search`.
+
+    Returns a :class:`SearchResult` (user units: m/s, deg, rev/s; fields as for :func:`gradient_search`):
+    ``best`` the best throw, ``best_bounces`` its true count, ``best_distance`` its true distance [m],
+    ``forward_throws`` the exact simulations run, ``wall_time`` [s]; ``gradient_evals`` is 0 (nothing
+    is differentiated); ``history`` holds one entry per iteration: the centres' true ``"bounces"``, the
+    mean count of each start's samples (``"objective"``), the ``"best"`` count so far and the centres'
+    ``"points"`` (then the polish's).
     """
     t0 = time.perf_counter()
     box = _as_box(box)
     config = checked_config(config)
+    seed = _check_seed(seed)
     starts = check_int("starts", starts, minimum=1, maximum=4096)
     iterations = check_int("iterations", iterations, minimum=1, maximum=100_000)
     samples = check_int("samples", samples, minimum=1, maximum=4096)
@@ -502,7 +566,13 @@ def _exhaustive(method: str, box: Box, values: dict, stone, config: SimConfig, l
 def grid_search(box: Box | None = None, *, per_axis: int = 10, stone="paper", config: SimConfig | None = None,
                 lanes: int | None = None, water: WaterParams | None = None, progress: bool = False) -> SearchResult:
     """Exhaustive search: every point of a regular grid simulated exactly (``per_axis`` ** P throws);
-    ``water`` as in :func:`gradient_search`."""
+    ``box`` and ``water`` as in :func:`gradient_search`.
+
+    Returns a :class:`SearchResult` (user units: m/s, deg, rev/s; fields as for :func:`gradient_search`):
+    ``best`` the best throw, ``best_bounces`` its true count, ``best_distance`` its true distance [m],
+    ``forward_throws`` the exact simulations run, ``wall_time`` [s]; ``history`` holds one entry, with
+    the histogram of the counts (``"count_histogram"``).
+    """
     box = _as_box(box)
     config = checked_config(config)
     return _exhaustive("grid", box, grid_points(box, per_axis), stone, config, lanes, progress, water)
@@ -511,11 +581,18 @@ def grid_search(box: Box | None = None, *, per_axis: int = 10, stone="paper", co
 def random_search(box: Box | None = None, *, throws: int = 1000, stone="paper", config: SimConfig | None = None,
                   lanes: int | None = None, seed: int = 0, water: WaterParams | None = None,
                   progress: bool = False) -> SearchResult:
-    """Random search: ``throws`` uniform random points of the box simulated exactly; ``water`` as in
-    :func:`gradient_search`."""
+    """Random search: ``throws`` uniform random points of the box simulated exactly; ``box``, ``seed``
+    and ``water`` as in :func:`gradient_search`.
+
+    Returns a :class:`SearchResult` (user units: m/s, deg, rev/s; fields as for :func:`gradient_search`):
+    ``best`` the best throw, ``best_bounces`` its true count, ``best_distance`` its true distance [m],
+    ``forward_throws`` the exact simulations run, ``wall_time`` [s]; ``history`` holds one entry, with
+    the histogram of the counts (``"count_histogram"``).
+    """
     box = _as_box(box)
     config = checked_config(config)
     n = check_int("throws", throws, minimum=1, maximum=100_000_000)
+    seed = _check_seed(seed)
     return _exhaustive("random", box, _random_points(box, n, np.random.default_rng(seed)), stone, config, lanes,
                        progress, water)
 

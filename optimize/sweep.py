@@ -40,15 +40,15 @@ import json
 import math
 import os
 import sys
-import tempfile
 from pathlib import Path
 
 import numpy as np
 
 from jaxskip import Throw, simulate_batch
-from jaxskip._checks import ParameterError, check_int
+from jaxskip._checks import ParameterError, check_array, check_int
+from jaxskip._docs import document_fields
 from jaxskip.settings import SIM_DEFAULTS, describe, simulation
-from jaxskip.throw import MAX_SPEED
+from jaxskip.throw import MAX_SPEED, MAX_SPIN
 
 from .bounds import check_interval
 
@@ -60,6 +60,43 @@ REFERENCE = {"speed": 3.5, "spin": 65.0, "tilt": 20.0, "attack": 20.0}
 CHUNKS = 8
 #: A bounce-domain sweep's smallest default chunk [grid points]: smaller domains are one chunk.
 DOMAIN_CHUNK = 256
+#: The limits of every throw a sweep makes, user units: ``{name: (low, high, low_open, high_open, unit)}``. They
+#: are :meth:`jaxskip.Throw.from_degrees`' (speed up to :data:`jaxskip.throw.MAX_SPEED`, spin up to
+#: :data:`jaxskip.throw.MAX_SPIN`); :func:`make_spec` checks them and ``jaxskip sweep --help`` shows them
+#: (:func:`limit_text`).
+THROW_LIMITS = {
+    "speed": (0.0, MAX_SPEED, True, False, "m/s"),
+    "tilt": (-90.0, 90.0, True, True, "degrees"),
+    "attack": (-90.0, 90.0, False, False, "degrees"),
+    "spin": (-round(MAX_SPIN / (2 * math.pi), 9), round(MAX_SPIN / (2 * math.pi), 9), False, False, "rev/s"),
+}
+#: The lists of numbers each kind's chunk file holds, one entry per work item: counts (non-negative
+#: integers) and values (finite numbers or null).
+CHUNK_COUNTS = {"domain": ("bounces",), "umin": ("bounces_at_high", "bounces_at_low")}
+CHUNK_VALUES = {"domain": ("first_contact_time",), "umin": ("umin",)}
+
+
+def limit_text(name: str) -> str:
+    """A sweep throw parameter's valid range as text, e.g. ``"(0, 100] m/s"`` (:data:`THROW_LIMITS`)."""
+    low, high, low_open, high_open, unit = THROW_LIMITS[name]
+    return f"{'(' if low_open else '['}{low:g}, {high:g}{')' if high_open else ']'} {unit}"
+
+
+def _check_throws(name: str, value) -> np.ndarray:
+    low, high, low_open, high_open, unit = THROW_LIMITS[name]
+    return check_array(name, value, low, high, unit=unit, low_open=low_open, high_open=high_open)
+
+
+def _angles(name: str, values) -> tuple:
+    """``values`` (a number or a 1-D sequence of them) as a non-empty tuple of floats."""
+    try:
+        raw = np.atleast_1d(np.asarray(values))
+        arr = raw.astype(float) if raw.dtype.kind in "iuf" else None  # not text, not True/False
+    except (TypeError, ValueError):
+        arr = None
+    if arr is None or arr.ndim != 1 or arr.size == 0:
+        raise ParameterError(f"{name} must be a number or a non-empty list of numbers [deg], got {values!r}")
+    return tuple(float(v) for v in arr)
 
 
 def default_chunk_size(kind: str, items: int) -> int:
@@ -69,6 +106,7 @@ def default_chunk_size(kind: str, items: int) -> int:
     return size if kind == "umin" else max(size, DOMAIN_CHUNK)
 
 
+@document_fields
 @dataclasses.dataclass(frozen=True)
 class SweepSpec:
     """A sweep's resolved configuration (user units: m/s, degrees, rev/s); stored with its results."""
@@ -126,31 +164,35 @@ def make_spec(kind: str, *, tilts, attacks=(REFERENCE["attack"],), speed: float 
               stone: str = "clanet", attitude: str = "fixed", chunk_size: int | None = None, **sim) -> SweepSpec:
     """Validate a sweep's parameters (user units) before anything is compiled or written.
 
-    Every throw of the sweep must lie within :meth:`jaxskip.Throw.from_degrees`' limits (speed in
-    (0, 100] m/s, spin in [-500, 500] rev/s, ...). ``sim``: the other simulation settings of
-    ``jaxskip throw``, named and defaulted as :data:`jaxskip.settings.SIM_DEFAULTS` (``mass``, ``density``,
-    ``force_law``, ``c_lift``, ``c_friction``, ``velocity``, ``integrator``, ``dt``, ``duration``,
-    ``max_steps``); the stone is loaded here and the resolved configuration kept in the spec's
-    ``config``. ``chunk_size``: work items per chunk file, tilts (umin) or grid points (domain);
-    default :func:`default_chunk_size` (about :data:`CHUNKS` chunks), so that a default sweep resumes
-    and shards.
+    Every throw of the sweep must lie within :meth:`jaxskip.Throw.from_degrees`' limits,
+    :data:`THROW_LIMITS` (speed in (0, 100] m/s, tilt in (-90, 90) deg, attack in [-90, 90] deg, spin in
+    [-500, 500] rev/s). ``tilts``, ``attacks``: a number or a non-empty list of them [deg]. ``sim``: the
+    other simulation settings of ``jaxskip throw``, named and defaulted as
+    :data:`jaxskip.settings.SIM_DEFAULTS` (``mass``, ``density``, ``force_law``, ``c_lift``, ``c_friction``,
+    ``velocity``, ``integrator``, ``dt``, ``duration``, ``max_steps``); the stone is loaded here and the
+    resolved configuration kept in the spec's ``config``. ``chunk_size``: work items per chunk file, tilts
+    (umin) or grid points (domain); default :func:`default_chunk_size` (about :data:`CHUNKS` chunks), so
+    that a default sweep resumes and shards.
     """
     if kind not in ("domain", "umin"):
         raise ParameterError(f"kind must be 'domain' or 'umin', got {kind!r}")
     unknown = set(sim) - set(SIM_DEFAULTS)
     if unknown:
         raise TypeError(f"make_spec() got unexpected keyword arguments: {', '.join(sorted(unknown))}")
-    tilts = tuple(float(t) for t in np.atleast_1d(np.asarray(tilts, dtype=float)))
-    attacks = tuple(float(a) for a in np.atleast_1d(np.asarray(attacks, dtype=float)))
-    if not tilts or not attacks:
-        raise ParameterError("a sweep needs at least one tilt and one attack angle")
+    tilts = _angles("tilts", tilts)
+    attacks = _angles("attacks", attacks)
     if kind == "umin" and len(attacks) != 1:
         raise ParameterError(f"a umin sweep takes one attack angle, got {len(attacks)}")
     lo, hi = check_interval("speed_range", speed_range, 0.0, MAX_SPEED, unit="m/s")
     if lo <= 0.0:
         raise ParameterError(f"speed_range must start above 0 m/s, got {lo}")
     iterations = check_int("iterations", iterations, minimum=1, maximum=40)
-    # every speed, tilt, attack and spin the sweep throws, checked as the throw checks them
+    # every speed, tilt, attack and spin the sweep throws: checked against THROW_LIMITS (what --help shows),
+    # then as the throw checks them
+    _check_throws("speed", speed)
+    _check_throws("tilt", tilts)
+    _check_throws("attack", attacks)
+    _check_throws("spin", spin)
     Throw.from_degrees(speed=np.array([speed, lo, hi], dtype=float)[:, None, None], tilt=np.array(tilts)[:, None],
                        attack=np.array(attacks), spin=spin)
     sim = {**SIM_DEFAULTS, **sim, "stone": stone, "attitude": attitude}
@@ -224,9 +266,21 @@ def _chunks(spec: SweepSpec) -> list[np.ndarray]:
 
 
 def _write_atomic(path: Path, text: str) -> None:
-    """Write ``text`` to ``path`` so that a reader never sees a partial file."""
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=path.name, suffix=".tmp")
+    """Write ``text`` to ``path`` so that a reader never sees a partial file. Creates ``path``'s folder if
+    missing, not the folders above it (:func:`_out_folder` checked that they exist).
+
+    The file gets the usual mode, ``0o666`` less the umask, as ``open(path, "w")`` would give it (a
+    temporary file from :func:`tempfile.mkstemp` would be private, 0600, whatever the umask)."""
+    path.parent.mkdir(exist_ok=True)
+    for _ in range(100):
+        tmp = path.parent / f"{path.name}.{os.urandom(6).hex()}.tmp"
+        try:
+            fd = os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o666)  # the kernel applies the umask
+            break
+        except FileExistsError:
+            continue
+    else:  # pragma: no cover - 100 collisions of 48 random bits
+        raise FileExistsError(f"cannot create a temporary file beside {str(path)!r}")
     try:
         with os.fdopen(fd, "w") as f:
             f.write(text)
@@ -239,20 +293,33 @@ def _write_atomic(path: Path, text: str) -> None:
         raise
 
 
+#: What to do about a damaged chunk file of the folder being computed.
+RECOMPUTE = "delete it and run the sweep again in that folder to recompute the chunk"
+
+
 def run_sweep(spec: SweepSpec, out_dir=None, *, shard_index: int = 0, num_shards: int = 1,
               progress: bool = False, _stop_after: int | None = None) -> dict | None:
     """Compute the sweep's chunks (those of this shard), resuming from ``out_dir``.
+
+    ``spec``: a :class:`SweepSpec` from :func:`make_spec`. ``out_dir``: the sweep's folder (None: keep
+    nothing); it is created if missing, but its parent folder must exist (as ``jaxskip sweep --out``
+    requires: a mistyped path is refused rather than built). A chunk file found there is checked
+    (valid JSON, this sweep's chunk, one value per work item): a damaged one raises
+    :class:`~jaxskip.ParameterError` naming it (delete it to have the chunk recomputed).
 
     Returns the assembled result (see :func:`assemble`) when every chunk is present in
     ``out_dir`` (or when ``out_dir`` is None), else None (other shards still to run).
     ``_stop_after`` (tests) raises ``KeyboardInterrupt`` after that many new chunks.
     """
+    if not isinstance(spec, SweepSpec):
+        raise ParameterError(f"spec must be an optimize.SweepSpec (build it with optimize.make_spec(kind, tilts=...)), "
+                             f"got {type(spec).__name__}")
     num_shards = check_int("num_shards", num_shards, minimum=1)
     shard_index = check_int("shard_index", shard_index, minimum=0, maximum=num_shards - 1)
     if out_dir is None and num_shards > 1:
         raise ParameterError("num_shards > 1 needs an out_dir: a shard's chunks are joined from the folders (merge)")
+    out = None if out_dir is None else _out_folder(out_dir)
     sim = _sim(spec)  # before anything is written
-    out = None if out_dir is None else Path(out_dir)
     if out is not None:
         _check_spec_file(out, spec)
     chunks = _chunks(spec)
@@ -260,7 +327,7 @@ def run_sweep(spec: SweepSpec, out_dir=None, *, shard_index: int = 0, num_shards
     for j, index in enumerate(chunks):
         path = None if out is None else out / f"chunk-{j:05d}.json"
         if path is not None and path.exists():
-            results[j] = json.loads(path.read_text())
+            results[j] = _load_chunk(path, spec, j, index, RECOMPUTE)
             continue
         if j % num_shards != shard_index:
             continue
@@ -282,12 +349,81 @@ def run_sweep(spec: SweepSpec, out_dir=None, *, shard_index: int = 0, num_shards
     return result
 
 
+def _out_folder(out_dir) -> Path:
+    """``out_dir`` as a Path, refused unless it is a folder or can be made one in an existing folder."""
+    try:
+        out = Path(out_dir)
+    except TypeError:
+        raise ParameterError(f"out_dir must be a folder path, got {out_dir!r}") from None
+    parent = os.path.dirname(os.path.abspath(out))
+    if out.exists() and not out.is_dir():
+        raise ParameterError(f"out_dir {str(out)!r} is a file, not a folder")
+    if not os.path.isdir(parent):
+        raise ParameterError(f"out_dir {str(out)!r}: its parent folder {parent!r} does not exist (a sweep creates "
+                             "its own folder, not the folders above it)")
+    return out
+
+
+def _read_json(path: Path, remedy: str):
+    """The JSON in ``path``; a file that is not valid JSON (truncated, overwritten) is refused naming it."""
+    try:
+        return json.loads(path.read_text())
+    except ValueError as exc:  # json.JSONDecodeError, UnicodeDecodeError
+        raise ParameterError(f"{str(path)!r} is damaged (not valid JSON: {exc}); {remedy}") from None
+
+
+def _chunk_problem(data, spec: SweepSpec, j: int, index: np.ndarray) -> str | None:
+    """What is wrong with chunk ``j``'s data (None: nothing)."""
+    if not isinstance(data, dict):
+        return "not a JSON object"
+    lacks = [k for k in ("chunk", "items", *CHUNK_COUNTS[spec.kind], *CHUNK_VALUES[spec.kind]) if k not in data]
+    if lacks:
+        return f"it lacks {', '.join(map(repr, lacks))}"
+    if data["chunk"] != j or data["items"] != index.tolist():
+        return f"not chunk {j} of this sweep: its 'chunk' and 'items' differ"
+    n = len(index)
+    for key in CHUNK_COUNTS[spec.kind] + CHUNK_VALUES[spec.kind]:
+        values = data[key]
+        if not isinstance(values, list) or len(values) != n:
+            return f"{key!r} must be a list of {n} values, got {repr(values)[:40]}"
+        if key in CHUNK_COUNTS[spec.kind]:
+            ok = all(isinstance(v, int) and not isinstance(v, bool) and v >= 0 for v in values)
+        else:
+            ok = all(v is None or (isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v))
+                     for v in values)
+        if not ok:
+            return f"{key!r} holds a value that is not a {'count' if key in CHUNK_COUNTS[spec.kind] else 'number'}"
+    return None
+
+
+def _load_chunk(path: Path, spec: SweepSpec, j: int, index: np.ndarray, remedy: str) -> dict:
+    """Chunk ``j`` of ``spec`` read from ``path``, checked; a damaged file is refused naming it and ``remedy``."""
+    data = _read_json(path, remedy)
+    problem = _chunk_problem(data, spec, j, index)
+    if problem is not None:
+        raise ParameterError(f"{str(path)!r} is damaged ({problem}); {remedy}")
+    return data
+
+
+#: What to do about a damaged spec.json: the chunks beside it cannot be checked without it.
+SPEC_REMEDY = ("it records which sweep the folder holds, so the chunk files beside it cannot be checked: "
+               "use a new folder (or delete this one)")
+
+
+def _read_spec(path: Path) -> dict:
+    data = _read_json(path, SPEC_REMEDY)
+    if not isinstance(data, dict):
+        raise ParameterError(f"{str(path)!r} is damaged (not a JSON object); {SPEC_REMEDY}")
+    return data
+
+
 def _check_spec_file(out: Path, spec: SweepSpec) -> None:
-    """``out/spec.json`` pins the sweep a folder belongs to: resuming another sweep there is refused."""
+    """``out/spec.json`` pins the sweep a folder belongs to: resuming another sweep there is refused.
+    Writes it (creating ``out``, not its parents: :func:`_out_folder` checked them) if missing."""
     path = out / "spec.json"
     text = json.dumps(spec.to_dict(), sort_keys=True, indent=1)
     if path.exists():
-        old, new = json.loads(path.read_text()), json.loads(text)
+        old, new = _read_spec(path), json.loads(text)
         if old != new:
             differ = ", ".join(sorted(k for k in old.keys() | new.keys() if old.get(k) != new.get(k)))
             raise ParameterError(f"out_dir {str(out)!r} holds a different sweep (its spec.json differs in {differ}); "
@@ -345,7 +481,10 @@ def assemble(spec: SweepSpec, chunks: list[dict]) -> dict:
     A U_min sweep's result: ``umin`` per tilt [m/s] (None: no bounce up to the bracket's top),
     ``best_tilt`` [deg] / ``best_umin`` [m/s] the lowest grid point, ``best_tilt_fit`` /
     ``best_umin_fit`` the minimum between grid points (:func:`parabola_minimum`; None at the
-    sweep's edge), ``resolution`` the bisection's bracket [m/s].
+    sweep's edge), ``resolution`` the width of the bisection's final bracket [m/s]. Each ``umin`` is
+    that bracket's top (a speed that bounces), so the true minimal speed lies in
+    ``(umin - resolution, umin]``; where the bracket's low end already bounces
+    (``bounces_at_low`` > 0), ``umin`` is that low end and the true value lies at or below it.
     """
     def cat(key):
         return [v for c in chunks for v in c[key]]
@@ -389,41 +528,63 @@ def write_results(result: dict, out: Path) -> None:
     _write_atomic(out / "result.csv", buf.getvalue())
 
 
+def _spec_from_json(path: Path, data: dict) -> SweepSpec:
+    """The :class:`SweepSpec` a folder's spec.json (``data``, read from ``path``) describes."""
+    names = {f.name for f in dataclasses.fields(SweepSpec)}
+    if set(data) != names:
+        if set(data) < names and "config" not in data:
+            raise ParameterError(f"{str(path.parent)!r} holds a sweep of an older jaxskip (its spec.json lacks the "
+                                 "simulation configuration): run it again")
+        raise ParameterError(f"{str(path)!r} is damaged (its keys are not a sweep's); {SPEC_REMEDY}")
+    spec = SweepSpec(**{k: (tuple(v) if isinstance(v, list) else v) for k, v in data.items()})
+    numbers = lambda v: all(isinstance(x, (int, float)) and not isinstance(x, bool) for x in v)  # noqa: E731
+    if (spec.kind not in ("domain", "umin") or not spec.tilts or not numbers(spec.tilts) or not spec.attacks
+            or not numbers(spec.attacks) or not isinstance(spec.chunk_size, int) or isinstance(spec.chunk_size, bool)
+            or spec.chunk_size < 1):
+        raise ParameterError(f"{str(path)!r} is damaged (its kind, tilts, attacks or chunk_size are not a sweep's); "
+                             f"{SPEC_REMEDY}")
+    return spec
+
+
 def merge(folders, out_dir) -> dict:
-    """Join the chunk files of several shards' folders (same sweep) into ``out_dir``'s result."""
+    """Join the chunk files of several shards' folders (same sweep) into ``out_dir``'s result.
+
+    ``out_dir`` is created if missing (its parent must exist, as for :func:`run_sweep`). Every chunk file
+    read is checked as :func:`run_sweep` checks it: a damaged one (or a damaged spec.json) raises
+    :class:`~jaxskip.ParameterError` naming the file.
+    """
     folders = [Path(f) for f in folders]
     if not folders:
         raise ParameterError("merge needs at least one folder")
+    out = _out_folder(out_dir)
     specs = []
     for f in folders:
         if not (f / "spec.json").exists():
             raise ParameterError(f"{str(f)!r} is not a sweep folder (no spec.json)")
-        specs.append(json.loads((f / "spec.json").read_text()))
+        specs.append(_read_spec(f / "spec.json"))
     if any(s != specs[0] for s in specs):
         raise ParameterError("the folders hold different sweeps (their spec.json differ)")
-    try:
-        spec = SweepSpec(**{k: (tuple(v) if isinstance(v, list) else v) for k, v in specs[0].items()})
-    except TypeError:
-        raise ParameterError(f"{str(folders[0])!r} holds a sweep of an older jaxskip (its spec.json lacks the "
-                             "simulation configuration): run it again") from None
-    n = len(_chunks(spec))
+    spec = _spec_from_json(folders[0] / "spec.json", specs[0])
+    chunks = _chunks(spec)
     found = {}
     for f in folders:
-        for j in range(n):
+        for j, index in enumerate(chunks):
             p = f / f"chunk-{j:05d}.json"
             if p.exists() and j not in found:
-                found[j] = json.loads(p.read_text())
-    missing = [j for j in range(n) if j not in found]
+                found[j] = _load_chunk(p, spec, j, index, f"delete it and run the sweep again in {str(f)!r} (the "
+                                       "shard that computes that chunk), then merge")
+    missing = [j for j in range(len(chunks)) if j not in found]
     if missing:
         raise ParameterError(f"chunks missing from every folder: {missing[:10]}{' ...' if len(missing) > 10 else ''}"
                              " (run the shards that compute them)")
-    out = Path(out_dir)
     _check_spec_file(out, spec)
     for j, data in found.items():
         p = out / f"chunk-{j:05d}.json"
-        if not p.exists():
+        if p.exists():
+            _load_chunk(p, spec, j, chunks[j], "delete it and merge again")
+        else:
             _write_atomic(p, json.dumps(data, sort_keys=True))
-    result = assemble(spec, [found[j] for j in range(n)])
+    result = assemble(spec, [found[j] for j in range(len(chunks))])
     write_results(result, out)
     return result
 

@@ -1,5 +1,7 @@
 """vmap over throws equals one at a time; new throw values never recompile."""
 
+import math
+
 import jax
 import jax.numpy as jnp
 import numpy as np
@@ -118,3 +120,12 @@ def test_pool_equals_vmapped_rollout(paper, water):
     np.testing.assert_allclose(pool.tracker.t_start, np.asarray(tr.t_start), rtol=0, atol=1e-12)
     assert len(set(pool.bounces.tolist())) > 2 and pool.lane_steps < 7 * config.max_steps  # refills did happen
     assert set(pool.outcome_names) <= set(OUTCOMES)
+
+
+def test_a_stone_planing_for_the_whole_duration_ends_by_the_time_limit(paper, water):
+    """The default step budget covers ``duration`` in the water and the step that ends it: a 30 m/s throw
+    at 2 deg of tilt planes for all 5 s and ends by ``time_limit`` (with 20000 steps it ended one step
+    short, by ``step_limit``)."""
+    r = simulate(Throw.from_degrees(speed=30.0, tilt=2.0, attack=0.0), paper, water=water)
+    assert r.outcome == "time_limit", (r.outcome, r.final_time, r.steps)
+    assert r.steps == math.ceil(SimConfig().duration / SimConfig().dt) + 1 <= SimConfig().max_steps

@@ -253,3 +253,27 @@ def test_version_and_bare_command(capsys):
         main([])
     err = capsys.readouterr().err
     assert e.value.code == 2 and "jaxskip throw" in err and "optimize" in err and "sweep" in err
+
+
+@pytest.mark.parametrize("args, needle", [
+    # the step budget derived from --duration and --dt names them, not --max-steps the user did not give
+    (["--dt", "1e-9"], "--duration (5 s) needs 5000000250 steps of dt = 1e-09 s, more than the 10000000"),
+    (["--duration", "1e6"], "--duration (1e+06 s) needs 4000000250 steps"),
+    # a zero dt gets the whole range, as 0.02 does
+    (["--dt", "0"], "--dt must be in (0, 0.01] s, got 0.0"),
+])
+def test_errors_name_the_flags_given(args, needle):
+    p = run("throw", *args)
+    assert p.returncode == 2 and "Traceback" not in p.stderr
+    assert needle in p.stderr and "--max-steps" not in p.stderr
+
+
+def test_help_gives_the_ranges_and_the_table_has_no_nan():
+    text = run("throw", "--help").stdout
+    for needle in ("speed [m/s], in (0, 100]", "[m], in [0, 100]", "counter-clockwise from +x",
+                   "density [kg/m^3], in [100, 25000]", "lift coefficient, in [0, 10]"):
+        assert needle in " ".join(text.split()), needle
+    # a throw that ends in the water: its last contact has no exit tilt, said in words rather than "nan"
+    p = run("throw", "--speed", "2", "--attack", "20")
+    assert p.returncode == 0
+    assert "(in the water at the end)" in p.stdout and "nan" not in p.stdout

@@ -50,6 +50,14 @@ ROOT = Path(__file__).resolve().parent.parent
     (["sweep", "umin", "--plot", "/nonexistent/x.svg"], "--plot"),
     (["sweep", "umin", "--out", "/nonexistent/a/b"], "--out '/nonexistent/a/b': the folder"),
     (["sweep", "merge", "a", "--out", "/nonexistent/a/b"], "--out"),
+    # an empty or sloppy list is refused naming its flag and the format (not run as the default list)
+    (["sweep", "umin", "--iterations", "1", "--tilts", ""], "--tilts must be A:B:N (N >= 1 values from A to B) or a "
+                                                            "comma list of numbers such as 5,10,20 (no empty items)"),
+    (["sweep", "umin", "--iterations", "1", "--attacks", ""], "--attacks must be A:B:N"),
+    (["sweep", "umin", "--iterations", "1", "--tilts", "5,,10"], "--tilts must be A:B:N"),
+    (["sweep", "umin", "--iterations", "1", "--tilts", "5,10,"], "--tilts must be A:B:N"),
+    (["sweep", "umin", "--iterations", "1", "--tilts", " , "], "--tilts must be A:B:N"),
+    (["sweep", "domain", "--attacks", "10,,20"], "--attacks must be A:B:N"),
 ])
 def test_bad_input_exits_2(argv, word, capsys):
     assert main(argv) == 2
@@ -80,7 +88,7 @@ def test_optimize_random_json(capsys):
     assert set(r["best"]) == {"speed", "tilt", "attack", "spin"}
     assert r["config"] == {"stone": "paper", "mass": pytest.approx(0.1207, abs=1e-4), "attitude": "fixed",
                            "integrator": "euler", "force_law": "bocquet", "velocity": "body", "c_lift": 1.0,
-                           "c_friction": 0.3, "dt": 2.5e-4, "duration": 5.0, "max_steps": 20000}
+                           "c_friction": 0.3, "dt": 2.5e-4, "duration": 5.0, "max_steps": 20250}
     assert r["environment"]["float64"] is True and r["environment"]["jaxskip"]  # the tests run in float64
 
 
@@ -89,7 +97,7 @@ def test_optimize_takes_the_simulation_flags_of_throw(capsys):
     assert main(["optimize", "--method", "random", "--throws", "4", "--dt", "5e-4", "--duration", "2",
                  "--force-law", "seed", "--mass", "0.1", "--velocity", "local", "--json"]) == 0
     c = json.loads(capsys.readouterr().out)["config"]
-    assert (c["dt"], c["duration"], c["max_steps"]) == (5e-4, 2.0, 4000)  # the step budget follows dt and duration
+    assert (c["dt"], c["duration"], c["max_steps"]) == (5e-4, 2.0, 4250)  # the step budget follows dt and duration
     assert (c["force_law"], c["c_friction"], c["mass"]) == ("seed", 0.1, 0.1)
     assert c["velocity"] == "local"
 
@@ -120,7 +128,7 @@ def test_sweep_config_is_reported_and_pinned_to_its_folder(tmp_path, capsys):
     assert main(argv + ["--force-law", "seed", "--dt", "5e-4"]) == 0
     r = json.loads(capsys.readouterr().out)
     c = r["spec"]["config"]
-    assert (c["force_law"], c["c_lift"], c["c_friction"], c["dt"], c["max_steps"]) == ("seed", 1.0, 0.1, 5e-4, 10000)
+    assert (c["force_law"], c["c_lift"], c["c_friction"], c["dt"], c["max_steps"]) == ("seed", 1.0, 0.1, 5e-4, 10250)
     assert c["stone"] == "clanet" and c["mass"] == pytest.approx(0.01449, abs=1e-5)
     assert json.loads((out / "result.json").read_text())["spec"]["config"] == c
     stamp = (out / "chunk-00000.json").stat().st_mtime_ns
@@ -197,3 +205,79 @@ def test_optimize_distance_reports_the_longest_throw(capsys):
     assert main(argv + ["--json"]) == 0
     r = json.loads(capsys.readouterr().out)
     assert r["objective"] == "distance" and r["best_distance"] == max(d for h in r["history"] for d in h["distance"])
+
+
+def test_zero_shards_are_refused_like_negative_ones(tmp_path, capsys):
+    """--num-shards 0 is refused (it was taken for 1), before anything is written."""
+    for n in ("0", "-1"):
+        out = tmp_path / f"p{n}"
+        assert main(["sweep", "umin", "--tilts", "20", "--iterations", "1", "--num-shards", n, "--out", str(out)]) == 2
+        err = capsys.readouterr().err
+        assert err == f"jaxskip: error: --num-shards must be an integer >= 1, got {n}\n" and not out.exists()
+
+
+@pytest.mark.parametrize("name, text, problem", [
+    ("chunk-00001.json", "{}", "it lacks 'chunk'"),
+    ("chunk-00001.json", '{"chunk": 1, "items": [1], "umin', "not valid JSON: "),
+    ("spec.json", "garbage", "not valid JSON: Expecting value"),
+], ids=["empty-chunk", "truncated-chunk", "garbage-spec"])
+def test_damaged_sweep_file_exits_2_naming_it(tmp_path, capsys, name, text, problem):
+    """Resume and merge of a folder with a damaged file: exit 2, one line naming the file and what is wrong
+    (not a KeyError traceback, not a bare JSON message)."""
+    argv = ["sweep", "umin", "--tilts", "10,20", "--iterations", "1", "--chunk-size", "1", "--out", str(tmp_path / "s")]
+    assert main(argv) == 0
+    capsys.readouterr()
+    (tmp_path / "s" / name).write_text(text)
+    for command in (argv, ["sweep", "merge", str(tmp_path / "s"), "--out", str(tmp_path / "m")]):
+        assert main(command) == 2
+        err = capsys.readouterr().err
+        assert err.startswith(f"jaxskip: error: {str(tmp_path / 's' / name)!r} is damaged ({problem}")
+        assert err.count("\n") == 1 and "Traceback" not in err
+        assert ("delete it" if name.startswith("chunk") else "use a new folder") in err
+
+
+def _help(argv, capsys) -> str:
+    with pytest.raises(SystemExit):
+        main(argv + ["--help"])
+    return " ".join(capsys.readouterr().out.split())
+
+
+def test_range_flags_show_the_limits_that_are_checked(capsys):
+    """optimize's box limits differ from throw's: each range flag's help names the range its check enforces
+    (from the same constants), and so does sweep's."""
+    from optimize.bounds import LIMITS
+    from optimize.sweep import THROW_LIMITS
+
+    text = _help(["optimize"], capsys)
+    for name, (low, high, unit) in LIMITS.items():
+        assert f"--{name}-range LOW HIGH search {name} [{unit}] in [LOW, HIGH], within [{low:g}, {high:g}]" in text
+        assert f"at this value, in [{low:g}, {high:g}]" in text
+    assert "hold spin [rev/s] at this value, in [0, 200]" in text
+    assert main(["optimize", "--spin=-10"]) == 2
+    assert "--spin must lie within [0, 200] rev/s" in capsys.readouterr().err
+    text = _help(["sweep", "umin"], capsys)
+    assert THROW_LIMITS["tilt"][:2] == (-90.0, 90.0) and THROW_LIMITS["spin"][:2] == (-500.0, 500.0)
+    for flag, shown in (("--tilts", "tilts, each in (-90, 90) degrees"),
+                        ("--attacks", "attack angles, each in [-90, 90] degrees"),
+                        ("--speed M/S", "speed, in (0, 100] m/s"), ("--speed-range", "within (0, 100] m/s"),
+                        ("--spin", "spin, in [-500, 500] rev/s")):
+        assert shown in text, flag
+
+
+def test_umin_text_words_the_bisection_bracket(tmp_path, capsys):
+    """The reported U_min is the top of the bisection's last bracket: the text says the true value lies in
+    (U - resolution, U]; a tilt that never bounces reads 'no bounce up to 8 m/s'; one that bounces at the
+    bracket's low end reads 'U_min <= LOW'."""
+    out = tmp_path / "s"
+    assert main(["sweep", "umin", "--tilts", "5,20,60", "--iterations", "3", "--out", str(out)]) == 0
+    text = capsys.readouterr().out
+    r = json.loads((out / "result.json").read_text())
+    u, res = r["best_umin"], r["resolution"]
+    assert r["best_tilt"] == 20.0 and r["umin"][2] is None and res == (8.0 - 0.5) / 2 ** 3
+    assert "tilt   60.0 deg: no bounce up to 8 m/s\n" in text and "(no bounce)" not in text
+    assert f"magic angle: 20 deg, U_min {u:.2f} m/s (bisection: the true U_min lies in ({u - res:.2f}, {u:.2f}] m/s"\
+        in text and "+-" not in text
+    assert main(["sweep", "umin", "--tilts", "20,60", "--iterations", "1", "--speed-range", "2.5", "8"]) == 0
+    text = capsys.readouterr().out
+    assert "tilt   20.0 deg: U_min <= 2.5 m/s (bounces at the bracket's low end)" in text
+    assert "magic angle: 20 deg, U_min 2.50 m/s (it bounces at the bracket's low end: U_min <= 2.5 m/s" in text

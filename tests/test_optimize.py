@@ -250,3 +250,54 @@ def test_gradient_search_bad_polish_and_horizon(kwargs, message):
     box = make_box({"speed": (3.0, 10.0)}, held={"tilt": 20.0, "attack": 10.0, "spin": 15.0})
     with pytest.raises(ParameterError, match=message):
         gradient_search(box, **kwargs)
+
+
+@pytest.mark.parametrize("search", ["gradient_search", "perturbation_search", "random_search", "local_search"])
+@pytest.mark.parametrize("seed", [-1, 1.5, "a", True])
+def test_seed_must_be_a_non_negative_integer(search, seed):
+    """A bad seed is a ParameterError naming it (not NumPy's ValueError or a TypeError), before any work."""
+    import optimize
+
+    box = make_box({"speed": (3.0, 10.0)}, held={"tilt": 20.0, "attack": 10.0, "spin": 15.0})
+    args = (box, {"speed": [5.0]}) if search == "local_search" else (box,)
+    with pytest.raises(ParameterError, match=r"seed must be an integer >= 0, got "):
+        getattr(optimize, search)(*args, seed=seed)
+
+
+def test_initial_may_not_give_a_held_parameter():
+    """initial={'speed': 5, 'tilt': 40} with tilt held at 20: refused naming tilt (it was silently dropped)."""
+    box = make_box({"speed": (3.0, 10.0)}, held={"tilt": 20.0, "attack": 10.0, "spin": 15.0})
+    with pytest.raises(ParameterError, match=r"initial tilt is held at 20 deg by the box, not searched"):
+        gradient_search(box, initial={"speed": 5.0, "tilt": 40.0})
+    with pytest.raises(ParameterError, match="unknown throw parameter 'height'"):
+        gradient_search(box, initial={"speed": 5.0, "height": 1.0})
+    with pytest.raises(ParameterError, match="initial speed must be in"):
+        gradient_search(box, initial={"speed": 11.0})
+
+
+def test_searches_take_a_box_dict_such_as_human_box():
+    """gradient_search's docs call optimize.HUMAN_BOX its default box: passing it (or any such dict, values
+    held) works as make_box would build it."""
+    import optimize
+
+    config = SimConfig(max_steps=400, attitude="fixed")
+    r = optimize.random_search(optimize.HUMAN_BOX, throws=2, config=config)
+    assert r.box == make_box() and r.forward_throws == 2
+    r = optimize.grid_search({"speed": (5.0, 7.0), "tilt": 20.0, "spin": 10.0}, per_axis=2, config=config)
+    assert r.box == make_box({"speed": (5.0, 7.0)}, {"tilt": 20.0, "spin": 10.0}) and r.best["tilt"] == 20.0
+    # the box is accepted: the next check (starts) is the one that refuses
+    with pytest.raises(ParameterError, match="starts"):
+        gradient_search(box=optimize.HUMAN_BOX, starts=0)
+    with pytest.raises(ParameterError, match="box must be an optimize.Box .* or a dict"):
+        gradient_search(box=[(3.0, 12.0)])
+
+
+@pytest.mark.parametrize("search", ["gradient_search", "perturbation_search", "local_search", "grid_search",
+                                    "random_search"])
+def test_search_docstrings_say_what_they_return(search):
+    import optimize
+
+    doc = getattr(optimize, search).__doc__
+    for field in ("Returns a :class:`SearchResult`", "``best``", "``best_bounces``", "``best_distance``", "[m]",
+                  "``forward_throws``", "``history``"):
+        assert field in doc, field

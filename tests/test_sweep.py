@@ -167,7 +167,7 @@ def test_default_chunks_resume_and_shard_without_changing_the_numbers(tmp_path):
 
 def test_spec_carries_the_resolved_configuration():
     spec = make_spec("umin", tilts=[20.0], force_law="seed", c_lift=0.8, dt=1e-4, duration=2.0, density=2000.0)
-    assert (spec.max_steps, spec.c_friction, spec.config["c_friction"], spec.config["c_lift"]) == (20000, None, 0.1, 0.8)
+    assert (spec.max_steps, spec.c_friction, spec.config["c_friction"], spec.config["c_lift"]) == (20250, None, 0.1, 0.8)
     assert spec.config["mass"] == pytest.approx(2000.0 / 2700.0 * 0.0144855, rel=1e-4)  # the Clanet disk, lighter
     assert spec.to_dict()["config"] == spec.config and spec.config["dt"] == 1e-4
     with pytest.raises(MeshError, match="granite"):  # the stone is loaded before anything is written
@@ -222,7 +222,97 @@ def test_four_host_devices_equal_one(tmp_path):
     ({"kind": "umin", "tilts": [20.0], "dt": 0.0}, "dt"),
     ({"kind": "umin", "tilts": [20.0], "mass": -1.0}, "mass"),
     ({"kind": "umin", "tilts": [20.0], "c_lift": -1.0}, "c_lift"),
+    ({"kind": "umin", "tilts": []}, "tilts must be a number or a non-empty list of numbers"),
+    ({"kind": "umin", "tilts": "20"}, "tilts must be a number or a non-empty list"),
+    ({"kind": "domain", "tilts": [20.0], "attacks": []}, "attacks must be a number or a non-empty list"),
+    ({"kind": "domain", "tilts": [[10.0, 20.0]]}, "tilts must be"),
 ])
 def test_bad_sweep_input(kwargs, message):
     with pytest.raises(ParameterError, match=message):
         make_spec(**kwargs)
+
+
+def _finished_umin(out):
+    """A finished three-chunk U_min sweep in ``out`` (tiny: one bisection step)."""
+    spec = make_spec("umin", tilts=[10.0, 20.0, 30.0], iterations=1, chunk_size=1)
+    return spec, run_sweep(spec, out)
+
+
+@pytest.mark.parametrize("text, problem", [
+    ("{}", "it lacks 'chunk', 'items'"),
+    ('{"bounces_at_high": [1], "bou', "not valid JSON"),                                  # truncated
+    ('{"chunk": 1, "items": [1], "umin": [1.0, 2.0], "bounces_at_high": [1], "bounces_at_low": [0]}',
+     "'umin' must be a list of 1 values"),
+    ('{"chunk": 0, "items": [0], "umin": [1.0], "bounces_at_high": [1], "bounces_at_low": [0]}',
+     "not chunk 1 of this sweep"),
+    ('{"chunk": 1, "items": [1], "umin": ["x"], "bounces_at_high": [1], "bounces_at_low": [0]}',
+     "'umin' holds a value that is not a number"),
+    ("[]", "not a JSON object"),
+], ids=["empty", "truncated", "too-long", "another-chunk", "not-a-number", "not-an-object"])
+def test_damaged_chunk_is_refused_naming_it_and_recomputed_once_deleted(tmp_path, text, problem):
+    """A damaged chunk file stops the resume and the merge with a ParameterError naming the file and what
+    is wrong (not a KeyError or a bare JSON message); deleted, it is recomputed to the same result."""
+    spec, whole = _finished_umin(tmp_path / "s")
+    bad = tmp_path / "s" / "chunk-00001.json"
+    bad.write_text(text)
+    with pytest.raises(ParameterError, match="damaged") as exc:
+        run_sweep(spec, tmp_path / "s")
+    assert str(bad) in str(exc.value) and problem in str(exc.value) and "delete it" in str(exc.value)
+    with pytest.raises(ParameterError, match="damaged") as exc:
+        merge([tmp_path / "s"], tmp_path / "m")
+    assert str(bad) in str(exc.value) and problem in str(exc.value)
+    assert not (tmp_path / "m").exists()  # refused before anything was written
+    bad.unlink()
+    assert run_sweep(spec, tmp_path / "s") == whole
+    assert json.loads(bad.read_text())["chunk"] == 1
+
+
+@pytest.mark.parametrize("text, problem", [("garbage", "not valid JSON: Expecting value"),
+                                           ("[1, 2]", "not a JSON object")], ids=["garbage", "not-an-object"])
+def test_damaged_spec_file_is_refused_naming_it(tmp_path, text, problem):
+    spec, _ = _finished_umin(tmp_path / "s")
+    (tmp_path / "s" / "spec.json").write_text(text)
+    for call in (lambda: run_sweep(spec, tmp_path / "s"), lambda: merge([tmp_path / "s"], tmp_path / "m")):
+        with pytest.raises(ParameterError, match="damaged") as exc:
+            call()
+        assert str(tmp_path / "s" / "spec.json") in str(exc.value) and problem in str(exc.value)
+        assert "use a new folder" in str(exc.value)
+
+
+@pytest.mark.parametrize("umask", [0o022, 0o007])
+def test_sweep_files_get_the_usual_mode(tmp_path, umask):
+    """Chunk, spec and result files are written 0o666 less the umask, like any file the tools write (a
+    mkstemp file would stay 0600)."""
+    old = os.umask(umask)
+    try:
+        spec = make_spec("domain", tilts=[20.0], attacks=[20.0], speed=3.5)
+        run_sweep(spec, tmp_path / "s")
+        merge([tmp_path / "s"], tmp_path / "m")
+        plain = tmp_path / "plain.txt"
+        plain.write_text("x")
+    finally:
+        os.umask(old)
+    expected = 0o666 & ~umask
+    assert plain.stat().st_mode & 0o777 == expected
+    for folder in ("s", "m"):
+        names = sorted(p.name for p in (tmp_path / folder).iterdir())
+        assert names == ["chunk-00000.json", "result.csv", "result.json", "spec.json"]
+        assert {n: (tmp_path / folder / n).stat().st_mode & 0o777 for n in names} == dict.fromkeys(names, expected)
+
+
+def test_run_sweep_refuses_what_the_command_refuses(tmp_path):
+    """Like `jaxskip sweep --out`, run_sweep and merge create their folder but not the folders above it; a
+    file is not a folder; a spec must be a SweepSpec (make_spec)."""
+    spec = make_spec("domain", tilts=[20.0], attacks=[20.0], speed=3.5)
+    missing = tmp_path / "no" / "such" / "sweep"
+    with pytest.raises(ParameterError, match=r"out_dir .*its parent folder .* does not exist"):
+        run_sweep(spec, missing)
+    with pytest.raises(ParameterError, match=r"out_dir .*its parent folder .* does not exist"):
+        merge([tmp_path / "s"], missing)
+    assert not (tmp_path / "no").exists()
+    (tmp_path / "file").write_text("")
+    with pytest.raises(ParameterError, match="is a file, not a folder"):
+        run_sweep(spec, tmp_path / "file")
+    with pytest.raises(ParameterError, match="spec must be an optimize.SweepSpec .*got dict"):
+        run_sweep({"kind": "umin"})
+    assert run_sweep(spec, tmp_path / "new")["bounces"] and (tmp_path / "new" / "result.json").exists()

@@ -214,7 +214,7 @@ def _bad_inputs():
          r"speed must lie within the box \[3, 12\], got 15.0"),
         (lambda: make_box({"speed": (3.0, 12.0)}, {"tilt": "steep"}), "tilt must be a real number"),
         (lambda: grid_search(per_axis=1000), r"per_axis must be at most 100 for 4 searched parameters"),
-        (lambda: grid_search({"speed": (3.0, 12.0)}), "box must be an optimize.Box"),
+        (lambda: grid_search("human"), "box must be an optimize.Box"),
         (lambda: simulate(one, config=SimConfig(duration=-1.0)), "duration"),
     ]
 
@@ -270,3 +270,51 @@ def test_review_fixes_session_16():
     # a NumPy dt is stored as a float: the config hashes (it is a static argument) and equals the default
     assert SimConfig(dt=np.array(2.5e-4)) == SimConfig() and type(SimConfig(dt=np.float32(2.5e-4)).dt) is float
     assert len({SimConfig(dt=np.array(2.5e-4)), SimConfig()}) == 1  # hashable, and the same static config
+
+
+def test_audit_fixes_session_17(tmp_path):
+    """Found by a new-user audit in session 17: each escaped ParameterError, or was silently accepted."""
+    import dataclasses
+    import pydoc
+
+    import numpy as np
+
+    from jaxskip import MeshError, SimConfig, paper_stone, rigid_stone, simulate_batch
+    from jaxskip.export import write_trajectory
+
+    # a stone problem is a ParameterError too (one except clause catches every refused input)
+    assert issubclass(MeshError, ParameterError)
+    for stone in ("granite", str(tmp_path / "nothere.obj")):
+        with pytest.raises(ParameterError, match="granite|nothere"):
+            simulate(stone=stone)
+    # throw parameters that do not broadcast, None, complex numbers
+    with pytest.raises(ParameterError, match=r"broadcast to one batch shape, got speed \(\), tilt \(3,\), "
+                                             r"attack \(2,\)"):
+        Throw.from_degrees(tilt=[10.0, 20.0, 30.0], attack=[1.0, 2.0])
+    with pytest.raises(ParameterError, match="speed must be a real number or array of them, got None"):
+        Throw.from_degrees(speed=None)
+    with pytest.raises(ParameterError, match=r"speed must be a real number or array of them, got \(3\+1j\)"):
+        Throw.from_degrees(speed=3 + 1j)
+    # progress must be a bool ('no' is a true string)
+    with pytest.raises(ParameterError, match="progress must be True or False, got 'no'"):
+        simulate(progress="no")
+    with pytest.raises(ParameterError, match="progress must be True or False"):
+        simulate_batch(Throw.from_degrees(speed=[5.0, 6.0]), progress="no")
+    # a trajectory into a folder that does not exist: named, and nothing written
+    result = simulate(config=SimConfig(duration=0.05))
+    with pytest.raises(ParameterError, match="path's folder must exist"):
+        write_trajectory(result, tmp_path / "no" / "x.csv")
+    assert not (tmp_path / "no").exists()
+    # a stone in millimetres (the paper stone x 1000: a 50 m "stone" that skipped 53 times)
+    mesh = paper_stone()
+    big = dataclasses.replace(mesh, vertices=np.asarray(mesh.vertices) * 1000.0)
+    with pytest.raises(ParameterError, match=r"stone 'paper': its size \(bounding radius\) must be in \[1 mm, 1 m\], "
+                                             r"got 50.1 m; vertices are read in metres"):
+        rigid_stone(big, density=2650.0)
+    tiny = dataclasses.replace(mesh, vertices=np.asarray(mesh.vertices) * 0.01)
+    with pytest.raises(ParameterError, match="its size"):
+        rigid_stone(tiny, density=2650.0)
+    # help() shows every field's units (attribute docstrings are appended to the class docstring)
+    text = pydoc.render_doc(SimConfig, renderer=pydoc.plaintext)
+    assert "Time step in and near the water [s], in (0, 0.01]" in text
+    assert "() speed of the centre of mass [m/s], in (0, 100]" in pydoc.render_doc(Throw, renderer=pydoc.plaintext)
