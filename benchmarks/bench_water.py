@@ -4,6 +4,7 @@ and what the two-way coupling changes against flat water over a batch of throws.
     PYTHONPATH=. python benchmarks/bench_water.py            # all sections
     PYTHONPATH=. python benchmarks/bench_water.py --quick    # smaller batch, fewer repeats
     PYTHONPATH=. python benchmarks/bench_water.py --sections steps,throw --json out.json
+    PYTHONPATH=. python benchmarks/bench_water.py --sections throw --float32   # the CLI's precision
 
 Sections:
   steps     water steps/s on 64^2, 128^2 and 256^2 grids for each clamp (compile time reported apart),
@@ -30,8 +31,6 @@ import jax  # noqa: E402
 import jax.numpy as jnp  # noqa: E402
 import numpy as np  # noqa: E402
 
-jax.config.update("jax_enable_x64", True)
-
 from jaxskip import SimConfig, Throw, paper_stone, rigid_stone, rollout, water_params  # noqa: E402
 from jaxskip.coupled import default_window, rollout_coupled  # noqa: E402
 from jaxskip.water import WaterGrid, make_water_step, still_water  # noqa: E402
@@ -48,7 +47,8 @@ def _best(fn, repeats):
 
 def section_steps(quick):
     out = {}
-    n_copy = 64 * 2 ** 20 // 8                       # a 64 MiB float64 array
+    item = jnp.zeros(()).dtype.itemsize               # 8 bytes (float64), 4 with --float32
+    n_copy = 64 * 2 ** 20 // item                     # a 64 MiB array
     big = jnp.ones(n_copy)
     copy = jax.jit(lambda a: a * 1.0 + 0.0)
     jax.block_until_ready(copy(big))
@@ -66,7 +66,7 @@ def section_steps(quick):
                                                 length=steps)[0])
         jax.block_until_ready(stream(arrays))
         t_stream = _best(lambda: stream(arrays), 2 if quick else 5) / steps
-        same_bw = 2 * 5 * n * n * 8 / t_stream
+        same_bw = 2 * 5 * n * n * item / t_stream
         out[f"{n}_same_size_GBps"] = same_bw / 1e9
         print(f"  {n:>3}^2 same-size stream (5 arrays read + written per step, in a scan): {same_bw / 1e9:.2f} GB/s "
               f"({t_stream * 1e6:.0f} us/step)")
@@ -84,7 +84,7 @@ def section_steps(quick):
             compile_s = time.perf_counter() - t0
             t = _best(lambda: run(s0), 2 if quick else 5) / steps
             # State read and written each step: heights and four pipe arrays (~5 n^2 values).
-            nbytes = 2 * 5 * n * n * 8
+            nbytes = 2 * 5 * n * n * item
             bw = nbytes / t
             out[f"{n}_{clamp}"] = {"steps_per_s": 1 / t, "us_per_step": t * 1e6, "compile_s": compile_s,
                                    "GBps": bw / 1e9, "share_of_copy": bw / copy_bw, "share_of_same_size": bw / same_bw}
@@ -161,7 +161,11 @@ def main(argv=None):
     ap.add_argument("--quick", action="store_true")
     ap.add_argument("--sections", default="steps,throw,coupling")
     ap.add_argument("--json", metavar="PATH")
+    ap.add_argument("--float32", action="store_true",
+                    help="compute in float32 (the CLI's precision) instead of float64 (the tests')")
     args = ap.parse_args(argv)
+    jax.config.update("jax_enable_x64", not args.float32)
+    print(f"precision: {'float32' if args.float32 else 'float64'}")
     sections = {"steps": section_steps, "throw": section_throw, "coupling": section_coupling}
     out = {}
     for name in args.sections.split(","):
