@@ -23,7 +23,7 @@ How it measures
 * The stone is ``rigid_stone(paper_stone(), density=2650.0)`` (38 triangles),
   the water ``water_params()``, the model ``SimConfig()`` defaults (Bocquet law,
   free attitude, semi-implicit Euler, conservative-advancement flight,
-  ``max_steps`` 20000 (12000 before session 14), ``dt=2.5e-4`` s) unless a section says otherwise.
+  ``max_steps`` 20250 (12000 before session 14, 20000 before session 17), ``dt=2.5e-4`` s) unless a section says otherwise.
 * A jaxskip rollout is a fixed-length ``lax.scan`` of ``max_steps`` steps.
   Sections report how many of them were *alive* (advanced the stone): for one
   throw the steps after it is out of play may be cheap (if the step skips them

@@ -132,8 +132,8 @@ def main(argv=None):
     ap.add_argument("--chaos-throws", type=int, default=None,
                     help="random throws for the chaos section (pathwise gradients against the horizon; "
                          "default 256, 64 with --quick; 0 skips it)")
-    ap.add_argument("--chaos-horizons", default="400,1200,3000,20000",
-                    help="horizons [steps] of the chaos section (default 400,1200,3000,20000: the whole rollout)")
+    ap.add_argument("--chaos-horizons", default="400,1200,3000,20250",
+                    help="horizons [steps] of the chaos section (default 400,1200,3000,20250: the whole rollout)")
     ap.add_argument("--chaos-only", action="store_true", help="run the chaos section alone")
     ap.add_argument("--json", metavar="PATH")
     args = ap.parse_args(argv)

@@ -4,7 +4,7 @@ and what the two-way coupling changes against flat water over a batch of throws.
     PYTHONPATH=. python benchmarks/bench_water.py            # all sections
     PYTHONPATH=. python benchmarks/bench_water.py --quick    # smaller batch, fewer repeats
     PYTHONPATH=. python benchmarks/bench_water.py --sections steps,throw --json out.json
-    PYTHONPATH=. python benchmarks/bench_water.py --sections throw --float32   # the CLI's precision
+    PYTHONPATH=. python benchmarks/bench_water.py --sections throw --float32   # the library's default precision
 
 Sections:
   steps     water steps/s on 64^2, 128^2 and 256^2 grids for each clamp (compile time reported apart),
@@ -162,7 +162,7 @@ def main(argv=None):
     ap.add_argument("--sections", default="steps,throw,coupling")
     ap.add_argument("--json", metavar="PATH")
     ap.add_argument("--float32", action="store_true",
-                    help="compute in float32 (the CLI's precision) instead of float64 (the tests')")
+                    help="compute in float32 (JAX's and the library's default precision) instead of float64 (the CLI's and the tests')")
     args = ap.parse_args(argv)
     jax.config.update("jax_enable_x64", not args.float32)
     print(f"precision: {'float32' if args.float32 else 'float64'}")
@@ -173,6 +173,7 @@ def main(argv=None):
             ap.error(f"--sections: unknown section {name!r}; choose from {', '.join(sections)}")
         print(f"== {name}", flush=True)
         out[name] = sections[name](args.quick)
+    out["precision"] = "float32" if args.float32 else "float64"
     if args.json:
         with open(args.json, "w") as fh:
             json.dump(out, fh, indent=1)

@@ -7,6 +7,7 @@ NaN or as an XLA error.
 
 from __future__ import annotations
 
+import decimal
 import math
 import numbers
 
@@ -107,7 +108,10 @@ def check_array(name: str, value, low: float, high: float, *, unit: str = "", lo
                              "before tracing; inside jit, vmap or grad build the throw with Throw(...) directly")
     try:
         raw = np.asarray(value)
-        if raw.dtype.kind not in "iuf":  # not bools, complex numbers, None or strings
+        # Real numbers of any type (ints, floats, bfloat16, Decimal, Fraction); not bools, complex numbers,
+        # None or strings, which NumPy would turn into numbers (or NaN) without a word.
+        if raw.dtype.kind in "bcSUmM" or (raw.dtype.kind == "O" and not all(
+                isinstance(v, (numbers.Real, decimal.Decimal)) and not isinstance(v, bool) for v in raw.flat)):
             raise TypeError
         arr = np.asarray(raw, dtype=np.float64)
     except (TypeError, ValueError):

@@ -20,7 +20,8 @@ import warnings
 from ._checks import ParameterError, check_range
 from .body import DENSITY_RANGE
 from .forces import COEFFICIENT_MAX
-from .throw import MAX_HEADING, MAX_HEIGHT, MAX_SPEED, MAX_SPIN
+from .simulate import MAX_DT, MAX_STEPS, SimConfig
+from .throw import MAX_HEADING, MAX_HEIGHT, MAX_SPEED, MAX_SPIN_REVS
 from .settings import SIM_DEFAULTS, describe, environment, simulation  # noqa: F401 (shared with cli_search)
 
 EXIT_USAGE = 2
@@ -80,11 +81,11 @@ def add_common(p, *, stone="paper", attitude="free", plot="write a picture (PNG/
     p.add_argument("--integrator", choices=("euler", "rk4"), help="time integrator (default euler)")
     p.add_argument("--duration", type=_float("--duration"), metavar="S", help="simulated time limit [s], > 0 (default 5)")
     p.add_argument("--dt", type=_float("--dt"), metavar="S",
-                   help="time step in contact [s], in (0, 0.01] (default 2.5e-4; above 1e-3 answers are unconverged: "
+                   help=f"time step in contact [s], in (0, {MAX_DT:g}] (default 2.5e-4; above 1e-3 answers are unconverged: "
                         "a warning says so)")
     p.add_argument("--max-steps", type=int, metavar="N",
-                   help="step budget, in [1, 10^7] (default: enough to spend --duration in the water at --dt; "
-                        "20250 at the defaults)")
+                   help=f"step budget, in [1, {MAX_STEPS}] (default: enough to spend --duration in the water at "
+                        f"--dt; {SimConfig().max_steps} at the defaults)")
     p.add_argument("--json", action="store_true", help="print one JSON object on stdout")
     p.add_argument("--plot", metavar="PATH", help=plot)
 
@@ -127,7 +128,9 @@ def print_json(obj) -> None:
     print(json.dumps(_finite(obj), allow_nan=False))
 
 
-def build_parser() -> argparse.ArgumentParser:
+def build_parser(argv=None) -> argparse.ArgumentParser:
+    """The ``jaxskip`` parser. ``argv`` (default ``sys.argv[1:]``) only decides whether the ``optimize`` and
+    ``sweep`` help texts need their ranges (which import the search package: ``throw`` does without)."""
     p = _Parser(prog="jaxskip", description="Differentiable stone-skipping simulator. Start with `jaxskip throw` "
                 "(a default throw); `jaxskip COMMAND --help` lists a command's options.")
     p.add_argument("--version", action="version", version=_version())
@@ -142,7 +145,7 @@ def build_parser() -> argparse.ArgumentParser:
                    help="velocity angle below the horizontal [deg], in [-90, 90] (default 5)")
     t.add_argument("--spin", type=_float("--spin"), default=20.0, metavar="REV/S",
                    help=f"spin about the face normal [rev/s], + is counter-clockwise seen from above, in "
-                        f"[{-MAX_SPIN / (2 * math.pi):g}, {MAX_SPIN / (2 * math.pi):g}] (default 20)")
+                        f"[{-MAX_SPIN_REVS:g}, {MAX_SPIN_REVS:g}] (default 20)")
     t.add_argument("--height", type=_float("--height"), default=0.001, metavar="M",
                    help=f"clearance of the lowest point above the water at release [m], in [0, {MAX_HEIGHT:g}] "
                         "(default 0.001)")
@@ -165,7 +168,8 @@ def build_parser() -> argparse.ArgumentParser:
                    help="(--trajectory) frames per second, in (0, 10000] (default 60)")
     from .cli_search import add_parsers
 
-    add_parsers(sub)
+    words = [a for a in (sys.argv[1:] if argv is None else argv) if not a.startswith("-")]
+    add_parsers(sub, ranges=not words or words[0] in ("optimize", "sweep"))
     return p
 
 
@@ -303,7 +307,7 @@ def _warning_printer(args):
 
 def main(argv=None) -> int:
     """Entry point of the ``jaxskip`` command; returns the exit status."""
-    args = build_parser().parse_args(argv)
+    args = build_parser(argv).parse_args(argv)
     from .mesh import MeshError
     from .simulate import AccuracyWarning
 

@@ -38,11 +38,18 @@ def _only(p, table, flag, text, **kw):
     p.add_argument(flag, help=f"({', '.join(table[flag[2:].replace('-', '_')])}) {text}", **kw)
 
 
-def add_parsers(sub) -> None:
-    """Add the ``optimize`` and ``sweep`` subcommands to ``sub``."""
-    # The valid ranges in the flags' help come from the constants the checks use (not copied by hand).
-    from optimize.bounds import LIMITS
-    from optimize.sweep import limit_text
+def add_parsers(sub, ranges: bool = True) -> None:
+    """Add the ``optimize`` and ``sweep`` subcommands to ``sub``.
+
+    ``ranges``: give the flags' valid ranges in their help, from the constants the checks use (not copied
+    by hand). That imports ``optimize`` (and optax, ~0.2 s), which ``jaxskip throw`` does not need: the
+    command line asks for them only when it runs ``optimize`` or ``sweep``."""
+    if ranges:
+        from optimize.bounds import LIMITS
+        from optimize.sweep import limit_text
+    else:  # (help texts that are never shown)
+        LIMITS = {name: (math.nan, math.nan, None) for name, *_ in RANGES}
+        limit_text = lambda name: "range"  # noqa: E731
 
     o = sub.add_parser("optimize", help="search for the throw with the most bounces", description=(
         "Search the throw parameters within bounds for the most bounces (true counts from the exact "

@@ -11,7 +11,10 @@ import dataclasses
 import os
 import time
 
+from ._docs import document_fields
 
+
+@document_fields
 @dataclasses.dataclass(frozen=True)
 class NotebookRun:
     """How a notebook runs: ``quick`` (``JAXSKIP_QUICK=1``, for CI) or full, where figures go."""

@@ -143,7 +143,7 @@ class SimConfig:
         check_int("max_contacts", self.max_contacts, minimum=1, maximum=100_000)
         set_("bounce_clearance", check_positive("bounce_clearance", self.bounce_clearance, unit="m"))
         set_("stop_speed", check_positive("stop_speed", self.stop_speed, unit="m/s"))
-        check_int("segment", self.segment, minimum=1, maximum=10_000_000)
+        check_int("segment", self.segment, minimum=1, maximum=MAX_STEPS)
         check_int("checkpoint", self.checkpoint, minimum=0, maximum=1)
         check_bool("record", self.record)
         if not isinstance(self.force, ForceModel):

@@ -27,7 +27,9 @@ from ._checks import ParameterError, check_array
 
 MAX_SPEED = 100.0
 """Largest accepted throw speed [m/s] (far beyond any human or catapult)."""
-MAX_SPIN = 2 * math.pi * 500.0
+MAX_SPIN_REVS = 500.0
+"""Largest accepted spin [rev/s] (:meth:`Throw.from_degrees`, the command line)."""
+MAX_SPIN = 2 * math.pi * MAX_SPIN_REVS
 """Largest accepted spin [rad/s] (500 rev/s)."""
 MAX_HEIGHT = 100.0
 """Largest accepted release height [m]."""
@@ -94,7 +96,7 @@ class Throw:
         """
         tilt = check_array("tilt", tilt, -90.0, 90.0, unit="degrees", low_open=True, high_open=True)
         attack = check_array("attack", attack, -90.0, 90.0, unit="degrees")
-        spin = check_array("spin", spin, -500.0, 500.0, unit="rev/s")
+        spin = check_array("spin", spin, -MAX_SPIN_REVS, MAX_SPIN_REVS, unit="rev/s")
         heading = check_array("heading", heading, -MAX_HEADING, MAX_HEADING, unit="degrees")
         return cls.create(speed=speed, tilt=np.radians(tilt), attack=np.radians(attack), spin=2 * math.pi * spin,
                           height=height, heading=np.radians(heading))

@@ -46,7 +46,7 @@ import optax
 from jaxskip import SimConfig, WaterParams, simulate_batch, water_params
 from jaxskip._arrays import float_array
 from jaxskip._docs import document_fields
-from jaxskip._checks import ParameterError, check_int, check_positive, check_range
+from jaxskip._checks import ParameterError, check_bool, check_int, check_positive, check_range
 from jaxskip.api import checked_config, checked_water, resolve_stone
 
 from .bounds import LIMITS, PARAMETERS, Box, make_box
@@ -268,6 +268,7 @@ def gradient_search(box: Box | None = None, *, objective: str = "bounces", stone
     t0 = time.perf_counter()
     box = _as_box(box)
     config = checked_config(config)
+    progress = check_bool("progress", progress)
     objective = _check_objective(objective)
     seed = _check_seed(seed)
     if initial is not None:
@@ -416,6 +417,7 @@ def local_search(box: Box, centres: dict, *, throws: int = 256, scale: float = 0
     t0 = time.perf_counter()
     box = _as_box(box)
     config = checked_config(config)
+    progress = check_bool("progress", progress)
     objective = _check_objective(objective)
     seed = _check_seed(seed)
     n = check_int("throws", throws, minimum=1, maximum=100_000_000)
@@ -492,6 +494,7 @@ def perturbation_search(box: Box | None = None, *, stone="paper", config: SimCon
     t0 = time.perf_counter()
     box = _as_box(box)
     config = checked_config(config)
+    progress = check_bool("progress", progress)
     seed = _check_seed(seed)
     starts = check_int("starts", starts, minimum=1, maximum=4096)
     iterations = check_int("iterations", iterations, minimum=1, maximum=100_000)
@@ -575,6 +578,7 @@ def grid_search(box: Box | None = None, *, per_axis: int = 10, stone="paper", co
     """
     box = _as_box(box)
     config = checked_config(config)
+    progress = check_bool("progress", progress)
     return _exhaustive("grid", box, grid_points(box, per_axis), stone, config, lanes, progress, water)
 
 
@@ -591,6 +595,7 @@ def random_search(box: Box | None = None, *, throws: int = 1000, stone="paper", 
     """
     box = _as_box(box)
     config = checked_config(config)
+    progress = check_bool("progress", progress)
     n = check_int("throws", throws, minimum=1, maximum=100_000_000)
     seed = _check_seed(seed)
     return _exhaustive("random", box, _random_points(box, n, np.random.default_rng(seed)), stone, config, lanes,

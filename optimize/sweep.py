@@ -45,10 +45,10 @@ from pathlib import Path
 import numpy as np
 
 from jaxskip import Throw, simulate_batch
-from jaxskip._checks import ParameterError, check_array, check_int
+from jaxskip._checks import ParameterError, check_array, check_bool, check_int
 from jaxskip._docs import document_fields
 from jaxskip.settings import SIM_DEFAULTS, describe, simulation
-from jaxskip.throw import MAX_SPEED, MAX_SPIN
+from jaxskip.throw import MAX_SPEED, MAX_SPIN_REVS
 
 from .bounds import check_interval
 
@@ -62,13 +62,13 @@ CHUNKS = 8
 DOMAIN_CHUNK = 256
 #: The limits of every throw a sweep makes, user units: ``{name: (low, high, low_open, high_open, unit)}``. They
 #: are :meth:`jaxskip.Throw.from_degrees`' (speed up to :data:`jaxskip.throw.MAX_SPEED`, spin up to
-#: :data:`jaxskip.throw.MAX_SPIN`); :func:`make_spec` checks them and ``jaxskip sweep --help`` shows them
+#: :data:`jaxskip.throw.MAX_SPIN_REVS`); :func:`make_spec` checks them and ``jaxskip sweep --help`` shows them
 #: (:func:`limit_text`).
 THROW_LIMITS = {
     "speed": (0.0, MAX_SPEED, True, False, "m/s"),
     "tilt": (-90.0, 90.0, True, True, "degrees"),
     "attack": (-90.0, 90.0, False, False, "degrees"),
-    "spin": (-round(MAX_SPIN / (2 * math.pi), 9), round(MAX_SPIN / (2 * math.pi), 9), False, False, "rev/s"),
+    "spin": (-MAX_SPIN_REVS, MAX_SPIN_REVS, False, False, "rev/s"),
 }
 #: The lists of numbers each kind's chunk file holds, one entry per work item: counts (non-negative
 #: integers) and values (finite numbers or null).
@@ -316,6 +316,7 @@ def run_sweep(spec: SweepSpec, out_dir=None, *, shard_index: int = 0, num_shards
                              f"got {type(spec).__name__}")
     num_shards = check_int("num_shards", num_shards, minimum=1)
     shard_index = check_int("shard_index", shard_index, minimum=0, maximum=num_shards - 1)
+    progress = check_bool("progress", progress)
     if out_dir is None and num_shards > 1:
         raise ParameterError("num_shards > 1 needs an out_dir: a shard's chunks are joined from the folders (merge)")
     out = None if out_dir is None else _out_folder(out_dir)
@@ -425,9 +426,15 @@ def _check_spec_file(out: Path, spec: SweepSpec) -> None:
     if path.exists():
         old, new = _read_spec(path), json.loads(text)
         if old != new:
-            differ = ", ".join(sorted(k for k in old.keys() | new.keys() if old.get(k) != new.get(k)))
-            raise ParameterError(f"out_dir {str(out)!r} holds a different sweep (its spec.json differs in {differ}); "
-                                 "use a new folder")
+            keys = sorted(k for k in old.keys() | new.keys() if old.get(k) != new.get(k))
+            # (what it holds: the resolved configuration's values, then the sweep's own that are not in it)
+            config = {k: v for k, v in sorted(old.get("config", {}).items()) if new.get("config", {}).get(k) != v}
+            held = [f"{k}={v!r}" for k, v in config.items()]
+            held += [f"{k}={old.get(k)!r}" for k in keys if k != "config" and k not in config]
+            raise ParameterError(f"out_dir {str(out)!r} holds a different sweep (its spec.json differs in "
+                                 f"{', '.join(keys)}: it has {', '.join(held)}); give those settings to resume it "
+                                 "(a default that changed, such as max_steps 20000 before jaxskip's session 17, "
+                                 "can be passed explicitly: --max-steps 20000), or use a new folder")
     else:
         _write_atomic(path, text)
 

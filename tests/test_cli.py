@@ -277,3 +277,14 @@ def test_help_gives_the_ranges_and_the_table_has_no_nan():
     p = run("throw", "--speed", "2", "--attack", "20")
     assert p.returncode == 0
     assert "(in the water at the end)" in p.stdout and "nan" not in p.stdout
+
+
+def test_throw_does_not_import_the_search_package():
+    """``jaxskip throw`` builds its parser without the search package (optax, ~0.2 s): only ``optimize`` and
+    ``sweep`` need it, for the ranges in their help."""
+    code = ("import sys\nfrom jaxskip.cli import main\n"
+            "assert main(['throw', '--duration', '0.01']) == 0\n"
+            "print('imported:', 'optax' in sys.modules, 'optimize' in sys.modules)\n")
+    p = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=300)
+    assert p.returncode == 0, p.stderr[-2000:]
+    assert "imported: False False" in p.stdout

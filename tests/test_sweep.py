@@ -140,8 +140,13 @@ def test_folder_of_another_sweep_is_refused(tmp_path):
     with pytest.raises(ParameterError, match="different sweep"):
         run_sweep(make_spec("domain", tilts=[25.0], attacks=[20.0], speed=3.5), tmp_path)
     # the simulation's configuration is part of the sweep: another stone mass is another sweep
-    with pytest.raises(ParameterError, match=r"different sweep \(its spec.json differs in config, mass\)"):
+    with pytest.raises(ParameterError, match=r"different sweep \(its spec.json differs in config, mass: it has "
+                                             r"mass=0.01\d+\); give those settings to resume it"):
         run_sweep(make_spec("domain", tilts=[20.0], attacks=[20.0], speed=3.5, mass=0.02), tmp_path)
+    # a default that changed (max_steps 20000 before session 17) is named with its old value: passing it resumes
+    spec = make_spec("domain", tilts=[20.0], attacks=[20.0], speed=3.5, max_steps=20000)
+    with pytest.raises(ParameterError, match=r"differs in config, max_steps: it has max_steps=20250\)"):
+        run_sweep(spec, tmp_path)
 
 
 def test_default_chunks_resume_and_shard_without_changing_the_numbers(tmp_path):

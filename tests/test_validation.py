@@ -318,3 +318,36 @@ def test_audit_fixes_session_17(tmp_path):
     text = pydoc.render_doc(SimConfig, renderer=pydoc.plaintext)
     assert "Time step in and near the water [s], in (0, 0.01]" in text
     assert "() speed of the centre of mass [m/s], in (0, 100]" in pydoc.render_doc(Throw, renderer=pydoc.plaintext)
+
+
+def test_real_numbers_of_any_type_are_accepted():
+    """The real-number check refuses bools, complex numbers, None and text, not other real types (the review
+    of session 17 found bfloat16 arrays, Decimal, Fraction and object arrays of floats refused)."""
+    from decimal import Decimal
+    from fractions import Fraction
+
+    import jax.numpy as jnp
+    import numpy as np
+
+    for speed in (jnp.asarray(8, jnp.bfloat16), Decimal("8"), Fraction(8, 1), np.array([7.0, 8.0], dtype=object),
+                  np.int32(8), [7, 8]):
+        assert np.all(np.asarray(Throw.from_degrees(speed=speed).speed) >= 7.0)
+    for speed in (None, 3 + 1j, True, "8", np.array(["8"]), [None, 5.0]):
+        with pytest.raises(ParameterError, match="speed must be a real number"):
+            Throw.from_degrees(speed=speed)
+
+
+def test_progress_must_be_a_bool_in_searches_and_sweeps(tmp_path):
+    """A truthy string turned the progress line on; with a polish the search failed only after its ascent."""
+    from optimize import gradient_search, grid_search, local_search, make_box, make_spec, perturbation_search
+    from optimize import random_search, run_sweep
+
+    centres = {"speed": [5.0], "tilt": [20.0], "attack": [5.0], "spin": [10.0]}
+    calls = (lambda: gradient_search(progress="no"), lambda: perturbation_search(progress="no"),
+             lambda: grid_search(per_axis=2, progress="no"), lambda: random_search(throws=2, progress="no"),
+             lambda: local_search(make_box(), centres, progress="no"),
+             lambda: run_sweep(make_spec("umin", tilts=[20.0]), tmp_path / "s", progress="no"))
+    for call in calls:
+        with pytest.raises(ParameterError, match="progress must be True or False, got 'no'"):
+            call()
+    assert not (tmp_path / "s").exists()
