@@ -68,21 +68,25 @@ def add_common(p, *, stone="paper", attitude="free", plot="write a picture (PNG/
     p.add_argument("--stone", metavar="NAME|PATH.obj",
                    help=f"paper, disk, clanet, ellipsoid, pebble, or an .obj file in metres (default {stone})")
     m = p.add_mutually_exclusive_group()
-    m.add_argument("--mass", type=_float("--mass"), metavar="KG", help="stone mass [kg], such that the density is in "
-                   f"[{DENSITY_RANGE[0]:g}, {DENSITY_RANGE[1]:g}] kg/m^3 (default: from the density)")
-    m.add_argument("--density", type=_float("--density"), metavar="KG/M3", help=f"stone density [kg/m^3], in [{DENSITY_RANGE[0]:g}, {DENSITY_RANGE[1]:g}] (default: the stone's own)")
+    density = f"[{DENSITY_RANGE[0]:g}, {DENSITY_RANGE[1]:g}]"
+    m.add_argument("--mass", type=_float("--mass"), metavar="KG",
+                   help=f"stone mass [kg], such that the density is in {density} kg/m^3 (default: from the density)")
+    m.add_argument("--density", type=_float("--density"), metavar="KG/M3",
+                   help=f"stone density [kg/m^3], in {density} (default: the stone's own)")
     p.add_argument("--force-law", choices=("bocquet", "seed"), help="water force law (default bocquet)")
-    p.add_argument("--c-lift", type=_float("--c-lift"), help=f"lift coefficient, in [0, {COEFFICIENT_MAX:g}] (default: the law's)")
-    p.add_argument("--c-friction", type=_float("--c-friction"), help=f"friction coefficient, in [0, {COEFFICIENT_MAX:g}] (default: the law's)")
+    for name in ("lift", "friction"):
+        p.add_argument(f"--c-{name}", type=_float(f"--c-{name}"),
+                       help=f"{name} coefficient, in [0, {COEFFICIENT_MAX:g}] (default: the law's)")
     p.add_argument("--velocity", choices=("body", "local"),
                    help="velocity the water sees: centre of mass (body, default) or each triangle's v + w x r")
     p.add_argument("--attitude", choices=("free", "fixed"),
                    help=f"6-DoF (free) or tilt held (fixed) (default {attitude})")
     p.add_argument("--integrator", choices=("euler", "rk4"), help="time integrator (default euler)")
-    p.add_argument("--duration", type=_float("--duration"), metavar="S", help="simulated time limit [s], > 0 (default 5)")
+    p.add_argument("--duration", type=_float("--duration"), metavar="S",
+                   help="simulated time limit [s], > 0 (default 5)")
     p.add_argument("--dt", type=_float("--dt"), metavar="S",
-                   help=f"time step in contact [s], in (0, {MAX_DT:g}] (default 2.5e-4; above 1e-3 answers are unconverged: "
-                        "a warning says so)")
+                   help=f"time step in contact [s], in (0, {MAX_DT:g}] (default 2.5e-4; above 1e-3 answers are "
+                        "unconverged: a warning says so)")
     p.add_argument("--max-steps", type=int, metavar="N",
                    help=f"step budget, in [1, {MAX_STEPS}] (default: enough to spend --duration in the water at "
                         f"--dt; {SimConfig().max_steps} at the defaults)")

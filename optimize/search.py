@@ -191,6 +191,11 @@ def _as_box(box) -> Box:
     return box
 
 
+def _common(box, config, progress) -> tuple:
+    """The arguments every search takes, checked: ``(Box, SimConfig, bool)`` (:func:`_as_box`)."""
+    return _as_box(box), checked_config(config), check_bool("progress", progress)
+
+
 def _check_seed(seed) -> int:
     """A random seed: an integer >= 0 (NumPy's generators refuse negative ones)."""
     return check_int("seed", seed, minimum=0)
@@ -266,9 +271,7 @@ def gradient_search(box: Box | None = None, *, objective: str = "bounces", stone
     gradients, ``"points"`` and ``"grad_norm"``.
     """
     t0 = time.perf_counter()
-    box = _as_box(box)
-    config = checked_config(config)
-    progress = check_bool("progress", progress)
+    box, config, progress = _common(box, config, progress)
     objective = _check_objective(objective)
     seed = _check_seed(seed)
     if initial is not None:
@@ -415,9 +418,7 @@ def local_search(box: Box, centres: dict, *, throws: int = 256, scale: float = 0
     (4, True)
     """
     t0 = time.perf_counter()
-    box = _as_box(box)
-    config = checked_config(config)
-    progress = check_bool("progress", progress)
+    box, config, progress = _common(box, config, progress)
     objective = _check_objective(objective)
     seed = _check_seed(seed)
     n = check_int("throws", throws, minimum=1, maximum=100_000_000)
@@ -492,9 +493,7 @@ def perturbation_search(box: Box | None = None, *, stone="paper", config: SimCon
     ``"points"`` (then the polish's).
     """
     t0 = time.perf_counter()
-    box = _as_box(box)
-    config = checked_config(config)
-    progress = check_bool("progress", progress)
+    box, config, progress = _common(box, config, progress)
     seed = _check_seed(seed)
     starts = check_int("starts", starts, minimum=1, maximum=4096)
     iterations = check_int("iterations", iterations, minimum=1, maximum=100_000)
@@ -576,9 +575,7 @@ def grid_search(box: Box | None = None, *, per_axis: int = 10, stone="paper", co
     ``forward_throws`` the exact simulations run, ``wall_time`` [s]; ``history`` holds one entry, with
     the histogram of the counts (``"count_histogram"``).
     """
-    box = _as_box(box)
-    config = checked_config(config)
-    progress = check_bool("progress", progress)
+    box, config, progress = _common(box, config, progress)
     return _exhaustive("grid", box, grid_points(box, per_axis), stone, config, lanes, progress, water)
 
 
@@ -593,9 +590,7 @@ def random_search(box: Box | None = None, *, throws: int = 1000, stone="paper", 
     ``forward_throws`` the exact simulations run, ``wall_time`` [s]; ``history`` holds one entry, with
     the histogram of the counts (``"count_histogram"``).
     """
-    box = _as_box(box)
-    config = checked_config(config)
-    progress = check_bool("progress", progress)
+    box, config, progress = _common(box, config, progress)
     n = check_int("throws", throws, minimum=1, maximum=100_000_000)
     seed = _check_seed(seed)
     return _exhaustive("random", box, _random_points(box, n, np.random.default_rng(seed)), stone, config, lanes,

@@ -433,8 +433,8 @@ def _check_spec_file(out: Path, spec: SweepSpec) -> None:
             held += [f"{k}={old.get(k)!r}" for k in keys if k != "config" and k not in config]
             raise ParameterError(f"out_dir {str(out)!r} holds a different sweep (its spec.json differs in "
                                  f"{', '.join(keys)}: it has {', '.join(held)}); give those settings to resume it "
-                                 "(a default that changed, such as max_steps 20000 before jaxskip's session 17, "
-                                 "can be passed explicitly: --max-steps 20000), or use a new folder")
+                                 "(a default that changed since the folder was made, such as max_steps, can be "
+                                 "given explicitly: --max-steps N), or use a new folder")
     else:
         _write_atomic(path, text)
 
@@ -544,9 +544,10 @@ def _spec_from_json(path: Path, data: dict) -> SweepSpec:
                                  "simulation configuration): run it again")
         raise ParameterError(f"{str(path)!r} is damaged (its keys are not a sweep's); {SPEC_REMEDY}")
     spec = SweepSpec(**{k: (tuple(v) if isinstance(v, list) else v) for k, v in data.items()})
-    numbers = lambda v: all(isinstance(x, (int, float)) and not isinstance(x, bool) for x in v)  # noqa: E731
-    if (spec.kind not in ("domain", "umin") or not spec.tilts or not numbers(spec.tilts) or not spec.attacks
-            or not numbers(spec.attacks) or not isinstance(spec.chunk_size, int) or isinstance(spec.chunk_size, bool)
+    all_numbers = lambda v: all(isinstance(x, (int, float)) and not isinstance(x, bool) for x in v)  # noqa: E731
+    if (spec.kind not in ("domain", "umin") or not spec.tilts or not all_numbers(spec.tilts) or not spec.attacks
+            or not all_numbers(spec.attacks)
+            or not isinstance(spec.chunk_size, int) or isinstance(spec.chunk_size, bool)
             or spec.chunk_size < 1):
         raise ParameterError(f"{str(path)!r} is damaged (its kind, tilts, attacks or chunk_size are not a sweep's); "
                              f"{SPEC_REMEDY}")
