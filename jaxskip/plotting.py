@@ -7,6 +7,34 @@ import math
 import numpy as np
 
 
+def _number_contacts(side, fig, xs, xlim, fontsize: float = 7.0, rows: int = 3) -> None:
+    """Number the contacts under the water line at downrange positions ``xs`` [m].
+
+    Dense contacts (a stone chattering at the end of a throw) are numbered in up to ``rows``
+    staggered rows so that no two numbers overlap; a number that fits in no row is left out,
+    except the last contact's, which displaces the numbers before it that are in its way."""
+    width_pt = fig.get_size_inches()[0] * side.get_position().width * 72.0
+    per_m = width_pt / (xlim[1] - xlim[0])             # points per metre along the axis
+    char = 0.62 * fontsize                              # a digit's advance [pt], with a little air
+    placed = [[] for _ in range(rows)]                  # per row: (left, right, label, x) [pt, pt, str, m]
+    for i, xc in enumerate(xs):
+        label = str(i + 1)
+        half = 0.5 * len(label) * char + 1.0
+        centre = (xc - xlim[0]) * per_m
+        free = [r for r in range(rows) if not placed[r] or centre - half >= placed[r][-1][1]]
+        if not free and i == len(xs) - 1:
+            row = 0
+            while placed[row] and centre - half < placed[row][-1][1]:
+                placed[row].pop()
+            free = [row]
+        if free:
+            placed[free[0]].append((centre - half, centre + half, label, xc))
+    for row, items in enumerate(placed):
+        for _, _, label, xc in items:
+            side.annotate(label, (xc, 0.0), textcoords="offset points", xytext=(0, -11 - 8 * row), ha="center",
+                          fontsize=fontsize, color="#d1495b")
+
+
 def plot_throw(result, path=None, *, ax=None):
     """Draw a :class:`jaxskip.api.ThrowResult`: side view (trajectory, water line, contacts) and top view.
 
@@ -41,9 +69,7 @@ def plot_throw(result, path=None, *, ax=None):
     side.plot(x, z * 100, color="0.2", lw=1.0, label="centre of mass")
     if wet.any():
         side.plot(np.where(wet, x, np.nan), np.where(wet, z * 100, np.nan), color="#d1495b", lw=2.5, label="in contact")
-    for i, c in enumerate(result.contacts):
-        side.annotate(str(i + 1), (c.x, 0.0), textcoords="offset points", xytext=(0, -11), ha="center",
-                      fontsize=7, color="#d1495b")
+    _number_contacts(side, fig, [c.x for c in result.contacts], (min(x.min(), 0) - 0.2, x.max() + 0.5))
     side.set_ylabel("height [cm]")
     side.set_ylim(min(-2.0, z.min() * 100 - 0.5), max(z.max() * 100 * 1.15, 2.0))
     th = result.throw
