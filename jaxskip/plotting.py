@@ -54,9 +54,8 @@ def plot_throw(result, path=None, *, ax=None):
         matplotlib.use("Agg", force=False)
     import matplotlib.pyplot as plt
 
-    traj = result.trajectory
-    pos = np.asarray(traj["position"])
-    wet = np.asarray(traj["wetted_area"]) > 0
+    times, pos = _arc_path(result)
+    wet = _in_contact(result, times)
     if ax is None:
         fig, (side, top) = plt.subplots(2, 1, figsize=(10, 5.2), height_ratios=[2.2, 1], sharex=True)
     else:
@@ -64,35 +63,90 @@ def plot_throw(result, path=None, *, ax=None):
         fig = side.figure
     x, y, z = _throw_frame(pos, float(result.throw.heading))
 
+    xlim = _downrange_limits(x)
     side.axhline(0.0, color="#2f6fb0", lw=1.2, label="water surface")
-    side.fill_between([min(x.min(), 0) - 0.2, x.max() + 0.5], -0.05, 0.0, color="#cfe3f5", zorder=0)
+    side.fill_between(xlim, -0.05, 0.0, color="#cfe3f5", zorder=0)
     side.plot(x, z * 100, color="0.2", lw=1.0, label="centre of mass")
     if wet.any():
-        side.plot(np.where(wet, x, np.nan), np.where(wet, z * 100, np.nan), color="#d1495b", lw=2.5, label="in contact")
-    _number_contacts(side, fig, [c.x for c in result.contacts], (min(x.min(), 0) - 0.2, x.max() + 0.5))
+        side.plot(np.where(wet, x, np.nan), np.where(wet, z * 100, np.nan), color="#d1495b", lw=2.5,
+                  label="in contact (numbered)")
+    _number_contacts(side, fig, [c.x for c in result.contacts], xlim)
+    side.set_xlim(*xlim)
     side.set_ylabel("height [cm]")
     side.set_ylim(min(-2.0, z.min() * 100 - 0.5), max(z.max() * 100 * 1.15, 2.0))
     th = result.throw
     side.set_title(
-        f"{result.stone_name} stone, {result.mass * 1e3:.0f} g: "
-        f"{float(th.speed):.1f} m/s, tilt {math.degrees(float(th.tilt)):.0f}°, "
-        f"attack {math.degrees(float(th.attack)):.0f}°, spin {float(th.spin) / (2 * math.pi):.0f} rev/s"
+        f"{result.stone_name} stone, {result.mass * 1e3:.1f} g: "
+        f"{float(th.speed):.1f} m/s, tilt {math.degrees(float(th.tilt)):.1f}°, "
+        f"attack {math.degrees(float(th.attack)):.1f}°, spin {float(th.spin) / (2 * math.pi):.1f} rev/s"
         f"  →  {result.bounces} bounces, {result.distance:.1f} m, {result.outcome.replace('_', ' ')}",
         fontsize=10,
     )
-    side.legend(loc="upper right", fontsize=8, frameon=False)
+    side.legend(loc="lower left", fontsize=8, frameon=False)   # under the water line: the stone is rarely there
 
     top.plot(x, y * 100, color="0.2", lw=1.0)
     if wet.any():
         top.plot(np.where(wet, x, np.nan), np.where(wet, y * 100, np.nan), color="#d1495b", lw=2.5)
-    top.set_ylabel("sideways [cm]")
+    top.set_ylabel("sideways [cm]\n(+: left)")
     top.set_xlabel("downrange x [m]")
-    top.set_xlim(min(x.min(), 0) - 0.2, x.max() + 0.5)
+    top.set_xlim(*xlim)
+    # A throw that keeps its line (a held attitude) drifts by rounding alone: show at least ±1 cm, in
+    # plain numbers, not a 1e-15 axis that draws the noise as a drift.
+    lo, hi = float(y.min()) * 100, float(y.max()) * 100
+    if hi - lo < 2.0:
+        mid = 0.5 * (lo + hi)
+        top.set_ylim(mid - 1.0, mid + 1.0)
+    top.ticklabel_format(axis="y", useOffset=False, style="plain")
     fig.tight_layout()
     if path is not None:
         fig.savefig(path, dpi=130)
         plt.close(fig)
     return fig
+
+
+def _arc_path(result, longest: float = 1e-3):
+    """The centre of mass's path for drawing: ``(times (M,) [s], positions (M, 3) [m])``.
+
+    The recorded steps, with every step longer than ``longest`` [s] (a conservative-advancement jump
+    through the air) filled in along its parabola, ``x + v tau - g tau^2 / 2`` from the step's start:
+    exact in flight, where the integrators carry gravity exactly, so the arcs are drawn curved rather
+    than as the chords between a flight's few steps."""
+    traj = result.trajectory
+    t = np.asarray(traj["time"], dtype=np.float64)
+    x = np.asarray(traj["position"], dtype=np.float64)
+    v = np.asarray(traj["velocity"], dtype=np.float64)
+    g = float(result.water.gravity) if getattr(result, "water", None) is not None else 9.81
+    times, points = [t[:1]], [x[:1]]
+    for k in range(len(t) - 1):
+        h = t[k + 1] - t[k]
+        n = int(min(32, math.ceil(h / longest))) if h > longest else 1
+        tau = h * np.arange(1, n + 1) / n
+        arc = x[k] + v[k] * tau[:, None] - 0.5 * g * np.array([0.0, 0.0, 1.0]) * tau[:, None] ** 2
+        arc[-1] = x[k + 1]                      # the step's own end (the same point in flight)
+        times.append(t[k] + tau)
+        points.append(arc)
+    return np.concatenate(times), np.concatenate(points)
+
+
+def _downrange_limits(x):
+    """Axis limits [m] for downrange positions ``x``: the release point and the whole path, padded by
+    5 % of their span (at least 2 cm) on either side."""
+    lo, hi = min(float(x.min()), 0.0), float(x.max())
+    pad = max(0.05 * (hi - lo), 0.02)
+    return lo - pad, hi + pad
+
+
+def _in_contact(result, times=None):
+    """(N,) bool: each of ``times`` [s] (default: the trajectory's steps) lies within a logged contact,
+    from its start to its end (to the end of the run for a contact still going on) — the contacts the
+    bounce count numbers, so a hop inside a contact that clears the water by less than
+    ``bounce_clearance`` stays part of it."""
+    times = np.asarray(result.trajectory["time"] if times is None else times)
+    wet = np.zeros(times.shape, bool)
+    for c in result.contacts:
+        end = c.t_end if c.t_end is not None and np.isfinite(c.t_end) else np.inf
+        wet |= (times >= c.t_start) & (times <= end)
+    return wet
 
 
 def _throw_frame(pos, heading):
@@ -146,7 +200,7 @@ def plot_water(result, stone, path=None, *, frame=None):
     extent = _frame_extent(field, origin)
     fig = plt.figure(figsize=(11, 4.6))
     ax = fig.add_subplot(1, 2, 1)
-    lim = max(float(np.abs(elev).max()), 1e-6)
+    lim = _elevation_limit(frames, depth)             # the animation's scale: one throw, one scale
     shade = LightSource(azdeg=315, altdeg=35).shade(elev.T, cmap=plt.get_cmap("RdBu_r"), vert_exag=20.0,
                                                     blend_mode="soft", vmin=-lim, vmax=lim)
     ax.imshow(shade, origin="lower", extent=extent, interpolation="bilinear")
@@ -155,7 +209,7 @@ def plot_water(result, stone, path=None, *, frame=None):
         ax.fill(f[:, 0], f[:, 1], color="0.35", alpha=0.5, lw=0)
     ax.set_xlabel("x [m]")
     ax.set_ylabel("y [m]")
-    ax.set_title(f"surface at t = {t:.3f} s (±{lim:.1f} mm, shaded)", fontsize=10)
+    ax.set_title(f"surface at t = {t:.3f} s (±{lim:.1f} mm, clipped; shaded)", fontsize=10)
     sm = plt.cm.ScalarMappable(cmap="RdBu_r", norm=plt.Normalize(-lim, lim))
     fig.colorbar(sm, ax=ax, label="elevation [mm]", shrink=0.8)
 
@@ -164,19 +218,32 @@ def plot_water(result, stone, path=None, *, frame=None):
     xs = origin[0] + field["spacing"] * np.arange(nx)
     ys = origin[1] + field["spacing"] * np.arange(ny)
     X, Y = np.meshgrid(xs, ys, indexing="ij")
-    ax3.plot_surface(X, Y, (height - depth) * 100, cmap="Blues_r", linewidth=0, antialiased=True, alpha=0.85)
-    ax3.add_collection3d(Poly3DCollection(list(np.stack([tri[..., 0], tri[..., 1], tri[..., 2] * 100], -1)),
+    ax3.plot_surface(X, Y, elev, cmap="Blues_r", linewidth=0, antialiased=True, alpha=0.85)
+    ax3.add_collection3d(Poly3DCollection(list(np.stack([tri[..., 0], tri[..., 1], tri[..., 2] * 1e3], -1)),
                                           facecolor="0.45", edgecolor="0.2", linewidths=0.3))
-    ax3.set_xlabel("x [m]")
-    ax3.set_ylabel("y [m]")
-    ax3.set_zlabel("z [cm]")
-    ax3.set_title(f"{result.bounces} bounces; window {nx}×{ny}, {field['spacing'] * 100:.0f} cm columns",
-                  fontsize=10)
+    # Heights in mm over a window of tens of cm: state the vertical exaggeration of the drawn box.
+    z_all = np.concatenate([elev.ravel(), tri[..., 2].ravel() * 1e3])
+    z_span = max(float(z_all.max() - z_all.min()), 1e-3) * 1e-3          # [m]
+    box_z = 0.45
+    ax3.set_box_aspect((1.0, ny / nx, box_z))
+    exaggeration = box_z * (xs[-1] - xs[0]) / z_span
+    ax3.set_xlabel("x [m]", labelpad=6)
+    ax3.set_ylabel("y [m]", labelpad=8)
+    ax3.set_zlabel(f"z [mm] (vertical ×{exaggeration:.0f})", labelpad=6)
+    ax3.set_title(f"throw: {result.bounces} bounces in all; window {nx}×{ny}, "
+                  f"{field['spacing'] * 100:.0f} cm columns", fontsize=10)
     fig.tight_layout()
     if path is not None:
-        fig.savefig(path, dpi=120)
+        fig.savefig(path, dpi=120, bbox_inches="tight")
         plt.close(fig)
     return fig
+
+
+def _elevation_limit(frames, depth) -> float:
+    """Colour scale [mm] of the water pictures: the 99.5th percentile of |elevation| over all frames,
+    not the maximum — one spike under the stone (tens of mm in a single column) would otherwise wash
+    out every ripple. Elevations beyond it are drawn at the end of the scale (clipped)."""
+    return max(float(np.percentile(np.abs(np.stack([f[2] for f in frames]) - depth), 99.5)) * 1e3, 1e-6)
 
 
 def _check_field(result):
@@ -190,14 +257,18 @@ def _check_field(result):
 def animate_throw(result, stone, path, *, fps: int = 20):
     """Write an animation (GIF by extension ``.gif``) of the stone over the water, one frame per snapshot.
 
-    Top view of the window's surface elevation with the stone's footprint, and the
-    side view of the trajectory so far. ``result`` from ``simulate(..., water_field=...)``.
+    Top view of the window's surface elevation with the stone's footprint and a colour bar [mm],
+    and the side view of the trajectory so far (contacts in red). ``result`` from
+    ``simulate(..., water_field=...)``. The snapshots are uneven in simulated time (a flight is
+    crossed in a few long steps), so each frame is shown for a time proportional to the simulated
+    time it covers: the animation is the throw in uniform slow motion, ``fps`` frames a second on
+    average (each frame shown 20 ms to 2 s).
     """
     import matplotlib
 
     matplotlib.use("Agg", force=False)
     import matplotlib.pyplot as plt
-    from matplotlib.animation import FuncAnimation, PillowWriter
+    from PIL import Image
 
     from ._checks import ParameterError
 
@@ -206,14 +277,15 @@ def animate_throw(result, stone, path, *, fps: int = 20):
     field = _check_field(result)
     frames = field["frames"]
     depth = field["depth"]
-    # Colour scale: the 99.5th percentile of |elevation| over all frames, not the maximum — one
-    # spike under the stone (tens of mm in a single column) would otherwise wash out every ripple.
-    lim = max(float(np.percentile(np.abs(np.stack([f[2] for f in frames]) - depth), 99.5)) * 1e3, 1e-6)
+    lim = _elevation_limit(frames, depth)
     pos = np.asarray(result.trajectory["position"])
     times = np.asarray(result.trajectory["time"])
+    wet = _in_contact(result)
     heading = float(result.throw.heading)
     down = _throw_frame(pos, heading)[0]
-    fig, (top, side) = plt.subplots(1, 2, figsize=(10, 4.2), width_ratios=[1, 1.4])
+    fig, (top, side) = plt.subplots(1, 2, figsize=(11, 4.2), width_ratios=[1, 1.3], layout="constrained")
+    sm = plt.cm.ScalarMappable(cmap="RdBu_r", norm=plt.Normalize(-lim, lim))
+    fig.colorbar(sm, ax=top, label="elevation [mm]", shrink=0.85, pad=0.02)
 
     def draw(i):
         top.clear()
@@ -223,20 +295,42 @@ def animate_throw(result, stone, path, *, fps: int = 20):
                    cmap="RdBu_r", vmin=-lim, vmax=lim, interpolation="bilinear")
         for f in _stone_world(stone, position, orientation):
             top.fill(f[:, 0], f[:, 1], color="0.3", alpha=0.6, lw=0)
-        top.set_title(f"t = {t:.3f} s  (elevation ±{lim:.1f} mm, clipped)", fontsize=9)
+        top.set_title(f"t = {t:.3f} s; colours clipped at ±{lim:.1f} mm", fontsize=9)
         top.set_xlabel("x [m]")
         top.set_ylabel("y [m]")
         seen = times <= t
         side.axhline(0.0, color="#2f6fb0", lw=1.0)
         side.plot(down[seen], pos[seen, 2] * 100, color="0.2", lw=1.0)
+        side.plot(np.where(seen & wet, down, np.nan), np.where(seen & wet, pos[:, 2] * 100, np.nan),
+                  color="#d1495b", lw=2.0)
         side.plot(_throw_frame(np.asarray(position)[None], heading)[0], [position[2] * 100], "o", color="#d1495b")
-        side.set_xlim(min(down.min(), 0) - 0.1, down.max() + 0.2)
+        side.set_xlim(*_downrange_limits(down))
         side.set_ylim(min(-2.0, pos[:, 2].min() * 100 - 0.5), max(pos[:, 2].max() * 115, 2.0))
         side.set_xlabel("downrange x [m]")
         side.set_ylabel("height [cm]")
-        side.set_title(f"{result.bounces} bounces, {result.outcome.replace('_', ' ')}", fontsize=9)
+        side.set_title(f"throw: {result.bounces} bounces, {result.outcome.replace('_', ' ')} "
+                       f"(red: in contact)", fontsize=9)
 
-    anim = FuncAnimation(fig, draw, frames=len(frames), interval=1000 / fps)
-    anim.save(path, writer=PillowWriter(fps=fps))
+    images = []
+    for i in range(len(frames)):
+        draw(i)
+        fig.canvas.draw()
+        images.append(Image.fromarray(np.asarray(fig.canvas.buffer_rgba())[..., :3].copy()))
     plt.close(fig)
+    images[0].save(path, save_all=True, append_images=images[1:], duration=_frame_durations(
+        [f[0] for f in frames], fps), loop=0)
     return path
+
+
+def _frame_durations(times, fps: float) -> list:
+    """Display time [ms] of each frame: proportional to the simulated time [s] up to the next frame
+    (the last frame: the mean), scaled so the frames average ``1000 / fps`` ms, each held within
+    20 ms – 2 s, in whole 10 ms (a GIF's unit)."""
+    t = np.asarray(times, dtype=float)
+    gaps = np.diff(t)
+    gaps = np.append(gaps, gaps.mean() if gaps.size else 1.0)
+    gaps = np.maximum(gaps, 0.0)
+    mean = gaps.mean()
+    share = gaps / mean if mean > 0 else np.ones_like(gaps)
+    ms = np.clip(share * 1000.0 / fps, 20.0, 2000.0)
+    return [int(10 * round(m / 10)) for m in ms]

@@ -47,3 +47,88 @@ def test_a_last_contact_on_top_of_others_displaces_them():
     for (la, a), (lb, b) in itertools.combinations(zip(labels, boxes), 2):
         assert not a.overlaps(b), (la, lb)
     assert "1" in labels and "30" in labels
+
+
+# --- the side view's curves and the water pictures (jaxskip/plotting.py) ---------------------------
+
+import math  # noqa: E402
+
+import pytest  # noqa: E402
+
+from jaxskip import SimConfig, Throw, simulate  # noqa: E402
+from jaxskip.plotting import _arc_path, _elevation_limit, _frame_durations, _in_contact, plot_throw  # noqa: E402
+
+
+@pytest.fixture(scope="module")
+def held_disk():
+    """Clanet's disk, attitude held, the default throw: 7 bounces, and a last contact holding a hop that
+    clears the water by less than the bounce clearance."""
+    return simulate(Throw.from_degrees(), stone="clanet", config=SimConfig(attitude="fixed"))
+
+
+def _runs(mask):
+    m = np.asarray(mask, int)
+    return int(np.sum(np.diff(np.concatenate([[0], m])) == 1))
+
+
+def test_the_red_contact_line_has_one_stretch_per_logged_contact(held_disk):
+    r = held_disk
+    wet_steps = np.asarray(r.trajectory["wetted_area"]) > 0
+    assert _runs(wet_steps) > len(r.contacts)          # a sub-clearance hop splits a contact's wet steps
+    times, _ = _arc_path(r)
+    assert _runs(_in_contact(r, times)) == len(r.contacts)
+    assert _runs(_in_contact(r)) == len(r.contacts)
+
+
+def test_flights_are_drawn_along_their_parabola(held_disk):
+    r = held_disk
+    t = np.asarray(r.trajectory["time"])
+    x = np.asarray(r.trajectory["position"])
+    v = np.asarray(r.trajectory["velocity"])
+    times, path = _arc_path(r)
+    # every recorded step is on the drawn path, at its own time
+    idx = np.searchsorted(times, t)
+    np.testing.assert_array_equal(times[idx], t)
+    np.testing.assert_allclose(path[idx], x, rtol=0, atol=1e-12)
+    # the first flight's apex: the parabola's, which none of the flight's few steps lands on
+    c0, c1 = r.contacts[0], r.contacts[1]
+    k = int(np.searchsorted(t, c0.t_end))                 # the first step after the stone left the water
+    g = r.water.gravity
+    apex = x[k, 2] + v[k, 2] ** 2 / (2 * g)
+    flight = (times > c0.t_end) & (times < c1.t_start)
+    assert path[flight, 2].max() == pytest.approx(apex, abs=2e-5)
+    chords = np.interp(times[flight], t, x[:, 2])          # what joining the steps by lines would draw
+    assert np.max(np.abs(path[flight, 2] - chords)) > 3e-4   # chords sag ~0.5 mm off the 3 cm arc
+
+
+def test_a_straight_throw_gets_a_readable_sideways_axis(held_disk):
+    fig = plot_throw(held_disk)
+    side, top = fig.axes[:2]
+    lo, hi = top.get_ylim()
+    assert hi - lo >= 2.0 and lo <= 0.0 <= hi            # at least +-1 cm around a line drifting by 1e-15 cm
+    assert top.yaxis.get_offset_text().get_text() == ""
+    assert side.get_xlim() == top.get_xlim()
+    import matplotlib.pyplot as plt
+    plt.close(fig)
+
+
+def test_frame_durations_follow_simulated_time():
+    times = [0.0, 0.01, 0.02, 0.12, 0.13, 0.14]        # a 0.1 s flight between 10 ms frames
+    ms = _frame_durations(times, fps=20)
+    assert len(ms) == len(times) and all(m % 10 == 0 for m in ms)
+    assert ms[2] == max(ms) and ms[2] >= 5 * ms[0]       # the flight's frame is held ~10x longer
+    assert abs(np.mean(ms) - 1000 / 20) <= 10
+    assert _frame_durations([0.0, 0.0, 0.0], fps=10) == [100, 100, 100]
+    assert min(_frame_durations([0.0, 1e-6, 1.0], fps=50)) == 20
+
+
+def test_the_water_pictures_share_a_percentile_colour_scale():
+    depth = 0.02
+    calm = np.full((32, 32), depth) + 1e-3 * np.sin(np.arange(1024).reshape(32, 32))
+    spike = calm.copy()
+    spike[3, 3] = depth + 0.1                             # one 100 mm column
+    frames = [(0.0, (0, 0), calm, None, None), (0.1, (0, 0), spike, None, None)]
+    lim = _elevation_limit(frames, depth)
+    assert lim == pytest.approx(np.percentile(np.abs(np.stack([calm, spike]) - depth), 99.5) * 1e3)
+    assert lim < 10.0 < 100.0                             # the spike does not set the scale
+    assert math.isfinite(_elevation_limit([(0.0, (0, 0), np.full((4, 4), depth), None, None)], depth))
