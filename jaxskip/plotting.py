@@ -218,11 +218,14 @@ def plot_water(result, stone, path=None, *, frame=None):
     xs = origin[0] + field["spacing"] * np.arange(nx)
     ys = origin[1] + field["spacing"] * np.arange(ny)
     X, Y = np.meshgrid(xs, ys, indexing="ij")
-    ax3.plot_surface(X, Y, elev, cmap="Blues_r", linewidth=0, antialiased=True, alpha=0.85)
+    # The surface clipped at twice the colour scale: a single column's spike (a height field cannot
+    # splash) would otherwise set the vertical scale and flatten every ripple.
+    cap = 2.0 * lim
+    ax3.plot_surface(X, Y, np.clip(elev, -cap, cap), cmap="Blues_r", linewidth=0, antialiased=True, alpha=0.85)
     ax3.add_collection3d(Poly3DCollection(list(np.stack([tri[..., 0], tri[..., 1], tri[..., 2] * 1e3], -1)),
                                           facecolor="0.45", edgecolor="0.2", linewidths=0.3))
     # Heights in mm over a window of tens of cm: state the vertical exaggeration of the drawn box.
-    z_all = np.concatenate([elev.ravel(), tri[..., 2].ravel() * 1e3])
+    z_all = np.concatenate([np.clip(elev, -cap, cap).ravel(), tri[..., 2].ravel() * 1e3])
     z_span = max(float(z_all.max() - z_all.min()), 1e-3) * 1e-3          # [m]
     box_z = 0.45
     ax3.set_box_aspect((1.0, ny / nx, box_z))
@@ -231,7 +234,7 @@ def plot_water(result, stone, path=None, *, frame=None):
     ax3.set_ylabel("y [m]", labelpad=8)
     ax3.set_zlabel(f"z [mm] (vertical ×{exaggeration:.0f})", labelpad=6)
     ax3.set_title(f"throw: {result.bounces} bounces in all; window {nx}×{ny}, "
-                  f"{field['spacing'] * 100:.0f} cm columns", fontsize=10)
+                  f"{field['spacing'] * 100:.0f} cm columns\n(surface clipped at ±{cap:.0f} mm)", fontsize=10)
     fig.tight_layout()
     if path is not None:
         fig.savefig(path, dpi=120, bbox_inches="tight")
