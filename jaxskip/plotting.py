@@ -11,24 +11,29 @@ def _number_contacts(side, fig, xs, xlim, fontsize: float = 7.0, rows: int = 3) 
     """Number the contacts under the water line at downrange positions ``xs`` [m].
 
     Dense contacts (a stone chattering at the end of a throw) are numbered in up to ``rows``
-    staggered rows so that no two numbers overlap; a number that fits in no row is left out,
-    except the last contact's, which displaces the numbers before it that are in its way."""
+    staggered rows so that no two numbers overlap. When not every number fits, every 5th is
+    numbered (then every 10th, 20th, ...) with the first and the last, so that a gap in the
+    numbering is a rule a reader sees, not a silent omission (``rows`` >= 2: the first and the last
+    always fit)."""
     width_pt = fig.get_size_inches()[0] * side.get_position().width * 72.0
     per_m = width_pt / (xlim[1] - xlim[0])             # points per metre along the axis
     char = 0.62 * fontsize                              # a digit's advance [pt], with a little air
-    placed = [[] for _ in range(rows)]                  # per row: (left, right, label, x) [pt, pt, str, m]
-    for i, xc in enumerate(xs):
-        label = str(i + 1)
-        half = 0.5 * len(label) * char + 1.0
-        centre = (xc - xlim[0]) * per_m
-        free = [r for r in range(rows) if not placed[r] or centre - half >= placed[r][-1][1]]
-        if not free and i == len(xs) - 1:
-            row = 0
-            while placed[row] and centre - half < placed[row][-1][1]:
-                placed[row].pop()
-            free = [row]
-        if free:
-            placed[free[0]].append((centre - half, centre + half, label, xc))
+    n = len(xs)
+    for every in (1, 5, 10, 20, 50, 100, 200, 500, 1000, max(n, 1)):   # the last: first and last only
+        wanted = [i for i in range(n) if i in (0, n - 1) or (i + 1) % every == 0]
+        placed = [[] for _ in range(rows)]              # per row: (left, right, label, x) [pt, pt, str, m]
+        fits = True
+        for i in wanted:
+            label = str(i + 1)
+            half = 0.5 * len(label) * char + 1.0
+            centre = (xs[i] - xlim[0]) * per_m
+            free = [r for r in range(rows) if not placed[r] or centre - half >= placed[r][-1][1]]
+            if not free:
+                fits = False
+                break
+            placed[free[0]].append((centre - half, centre + half, label, xs[i]))
+        if fits:
+            break
     for row, items in enumerate(placed):
         for _, _, label, xc in items:
             side.annotate(label, (xc, 0.0), textcoords="offset points", xytext=(0, -11 - 8 * row), ha="center",

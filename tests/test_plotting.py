@@ -41,8 +41,22 @@ def test_sparse_contact_numbers_are_all_in_one_row():
     assert len({round(b.y0, 3) for b in boxes}) == 1
 
 
-def test_a_last_contact_on_top_of_others_displaces_them():
-    xs = list(np.linspace(1.0, 1.05, 30))          # far too dense for three rows
+def test_too_many_contacts_are_numbered_by_a_visible_rule():
+    """Where not every number fits, every 5th (10th, ...) is numbered, with the first and the last."""
+    xs = list(np.linspace(1.0, 1.5, 60))           # 60 contacts in 0.5 m: three rows cannot hold them all
+    labels, boxes = _numbers(xs)
+    for (la, a), (lb, b) in itertools.combinations(zip(labels, boxes), 2):
+        assert not a.overlaps(b), (la, lb)
+    numbers = sorted(int(v) for v in labels)
+    assert numbers[0] == 1 and numbers[-1] == 60
+    inner = numbers[1:-1]
+    step = inner[1] - inner[0]
+    assert step in (5, 10, 20) and inner == list(range(step, 60, step))[:len(inner)]
+    assert inner[-1] >= 60 - step                    # none skipped on the way
+
+
+def test_the_first_and_the_last_contact_are_always_numbered():
+    xs = list(np.linspace(1.0, 1.02, 30))          # far too dense for any rule but first and last
     labels, boxes = _numbers(xs)
     for (la, a), (lb, b) in itertools.combinations(zip(labels, boxes), 2):
         assert not a.overlaps(b), (la, lb)
