@@ -597,49 +597,188 @@ def random_search(box: Box | None = None, *, throws: int = 1000, stone="paper", 
                        progress, water)
 
 
-def plot_search(result: SearchResult, path) -> None:
-    """Best true count so far and every start's true count per iteration; for a gradient search,
-    a second panel with every start's raw gradient norm per iteration (log scale, with
-    :data:`EXPLODING` marked): gradient-norm monitoring at a glance."""
-    import matplotlib
+def _throw_text(throw: dict) -> str:
+    """A throw in words, with the precision ``jaxskip optimize`` prints it:
+    ``"speed 7.51 m/s, tilt 31.1°, attack 17.5°, spin 17.5 rev/s"``."""
+    return (f"speed {throw['speed']:.2f} m/s, tilt {throw['tilt']:.1f}°, attack {throw['attack']:.1f}°, "
+            f"spin {throw['spin']:.1f} rev/s")
 
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
 
-    norms = [h for h in result.history if h.get("grad_norm")]
-    fig, axes = plt.subplots(1, 2 if norms else 1, figsize=(11.0 if norms else 6.4, 4.0), squeeze=False)
-    ax = axes[0, 0]
+def _best_text(result: SearchResult) -> str:
+    """The best throw's score in words: its true count (and distance), or for the distance objective its
+    distance (and count)."""
+    d = result.best_distance
+    if result.objective == "distance" and d is not None:
+        return f"longest distance {d:.2f} m ({result.best_bounces} bounces)"
+    return f"best {result.best_bounces} bounces" + ("" if d is None else f" ({d:.2f} m)")
+
+
+def _count_histogram(result: SearchResult) -> np.ndarray | None:
+    """Throws per true bounce count (index: the count) of a search without iterations: the
+    ``"count_histogram"`` a grid or random search records, or a local search's counts; None for an
+    iterative search."""
+    h = result.history
+    if len(h) == 1 and "count_histogram" in h[0]:
+        return np.asarray(h[0]["count_histogram"], dtype=int)
+    if result.method == "local" and len(h) == 1:
+        return np.bincount(np.asarray(h[0]["bounces"], dtype=int))
+    return None
+
+
+def _histogram_figure(result: SearchResult, hist: np.ndarray):
+    """A grid, random or local search: the histogram of the true bounce counts of every throw
+    evaluated, the best count marked."""
+    from matplotlib.figure import Figure
+    from matplotlib.ticker import MaxNLocator
+
+    n = int(hist.sum())
+    fig = Figure(figsize=(7.0, 4.6), layout="constrained")
+    ax = fig.subplots()
+    counts = np.arange(hist.size)
+    best = result.best_bounces
+    marked = (counts == best) & (hist > 0)
+    ax.bar(counts[~marked], hist[~marked], width=0.8, color="C0", label=f"throws per count ({n} throws in all)")
+    if marked.any():
+        k = int(hist[best])
+        what = "the longest throw's count" if result.objective == "distance" else "the best count found"
+        ax.bar([best], [k], width=0.8, color="C3", label=f"{what}: {best} bounces ({k} throw{'s' if k != 1 else ''})")
+    nonzero = hist[hist > 0]
+    log = nonzero.size > 0 and nonzero.max() > 30 * nonzero.min()
+    if log:
+        ax.set_yscale("log")
+    else:
+        ax.yaxis.set_major_locator(MaxNLocator(integer=True))
+    ax.xaxis.set_major_locator(MaxNLocator(integer=True))
+    ax.set_xlim(-0.6, hist.size - 0.4)
+    ax.set_xlabel("true bounce count (exact simulation) [bounces]")
+    ax.set_ylabel("number of throws" + (" (log scale)" if log else ""))
+    per_axis = round(n ** (1.0 / max(len(result.box.searched), 1)))
+    what = {"grid": f"regular grid, {per_axis} per searched parameter", "random": "uniform random throws",
+            "local": "random throws near centres"}
+    ax.set_title(f"{result.method} search ({what.get(result.method, 'exact throws')}, {n} throws): "
+                 f"{_best_text(result)}\nat {_throw_text(result.best)}", fontsize=9)
+    ax.legend(fontsize=8, loc="best")
+    return fig
+
+
+def _start_colours(n: int) -> list:
+    """One colour per start (the same start in both panels); more than 10 starts share grey."""
+    return [f"C{i}" for i in range(n)] if n <= 10 else ["0.6"] * n
+
+
+def _iteration_ticks(ax, first: int, last: int, polish_at: int | None) -> None:
+    """Integer iteration ticks from ``first`` to ``last``, and a tick labelled "polish" at ``polish_at``."""
+    from matplotlib.ticker import MaxNLocator
+
+    ticks = [int(t) for t in MaxNLocator(nbins=8, integer=True, min_n_ticks=1).tick_values(first, last)
+             if first <= t <= last]
+    labels = [str(t) for t in ticks]
+    if polish_at is not None:
+        ticks.append(polish_at)
+        labels.append("polish")
+    ax.set_xticks(ticks, labels)
+
+
+def _search_figure(result: SearchResult):
+    """The figure :func:`plot_search` saves (a :class:`matplotlib.figure.Figure`, no pyplot state)."""
+    from matplotlib.figure import Figure
+    from matplotlib.ticker import MaxNLocator
+
+    hist = _count_histogram(result)
+    if hist is not None:
+        return _histogram_figure(result, hist)
+    distance = result.objective == "distance" and all("distance" in h for h in result.history)
+    key, unit = ("distance", "m") if distance else ("bounces", "bounces")
     steps = [h for h in result.history if h.get("phase") != "polish"]
-    its = [h["iteration"] for h in steps]
-    per = np.array([h["bounces"] for h in steps], dtype=float)
-    if per.ndim == 2 and per.shape[0] > 1:
-        ax.plot(its, per, color="0.7", lw=0.8)
-    for h in result.history:
-        if h.get("phase") == "polish":
-            ax.plot(np.full(len(h["bounces"]), h["iteration"]), h["bounces"], ".", color="C0", ms=2, alpha=0.4,
-                    label=f"polish: {len(h['bounces'])} throws near the best")
-    ax.plot([h["iteration"] for h in result.history], [h["best"] for h in result.history], "C3-o", ms=3,
-            label="best true count so far")
+    polish = [h for h in result.history if h.get("phase") == "polish"]
+    norms = [h for h in steps if h.get("grad_norm")]
+    fig = Figure(figsize=(12.5 if norms else 6.8, 5.2), layout="constrained")
+    axes = fig.subplots(1, 2 if norms else 1, squeeze=False, sharex=True)[0]
+    ax = axes[0]
+    its = [int(h["iteration"]) for h in steps]
+    per = np.array([h[key] for h in steps], dtype=float).reshape(len(steps), -1)
+    colours = _start_colours(per.shape[1])
+    what = "distance" if distance else "count"
+    centres = result.method == "perturbation"  # its history lists the centres; its best counts their samples too
+    start_label = (f"each start's centre: true {what}" if centres else f"each start's true {what}") + (
+        " (a colour per start, as on the right)" if norms and per.shape[1] <= 10 else "")
+    for i in range(per.shape[1]):
+        ax.plot(its, per[:, i], "-", marker=".", color=colours[i], lw=0.9, ms=4, alpha=0.8,
+                label=start_label if i == 0 else None)
+    xs = list(its)
+    if distance:  # the best so far: the running maximum of the distances evaluated
+        best = list(np.maximum.accumulate(np.nanmax(per, axis=1)))
+    else:
+        best = [h["best"] for h in steps]
+    polish_at = None
+    if polish:
+        polish_at = its[-1] + 1
+        p = np.asarray(polish[-1][key], dtype=float)
+        jitter = np.linspace(-0.3, 0.3, p.size) if p.size > 1 else np.zeros(1)
+        ax.plot(polish_at + jitter, p, "o", color="0.35", ms=3, alpha=0.5, mec="none",
+                label=f"polish: {p.size} exact throws near the best (spread sideways)")
+        ax.axvline(polish_at - 0.5, color="0.6", ls=":", lw=0.8)
+        xs.append(polish_at)
+        best.append(max(best[-1], float(np.max(p))) if distance else polish[-1]["best"])
+    ax.plot(xs, best, "k-o", ms=4, lw=1.6, zorder=1.5,
+            label=f"best true {what} so far" + (" (centres and their samples)" if centres else ""))
+    _iteration_ticks(ax, its[0], its[-1], polish_at)
+    if not distance:
+        ax.yaxis.set_major_locator(MaxNLocator(integer=True))
     ax.set_xlabel("iteration")
-    ax.set_ylabel("bounces (exact simulation)")
-    b = result.best
-    ax.set_title(f"{result.method} search: {result.best_bounces} bounces at {b['speed']:.1f} m/s, "
-                 f"tilt {b['tilt']:.0f}°, attack {b['attack']:.0f}°, {b['spin']:.0f} rev/s", fontsize=9)
-    ax.legend(fontsize=8)
+    ax.set_ylabel(f"true {'distance' if distance else 'bounce count'} (exact simulation) [{unit}]")
+    ax.set_title(f"{result.method} search: {_best_text(result)}\nat {_throw_text(result.best)}", fontsize=9)
+    ax.legend(fontsize=8, loc="upper center", bbox_to_anchor=(0.5, -0.13), ncol=2, frameon=False)
     if norms:
-        ax = axes[0, 1]
-        g = np.array([[np.nan if v is None else v for v in h["grad_norm"]] for h in norms], dtype=float)
-        ax.semilogy([h["iteration"] for h in norms], g, "o-", ms=3, lw=0.8, alpha=0.7)
-        ax.axhline(EXPLODING, color="C3", ls="--", lw=1, label=f"exploding (> {EXPLODING:g}): chaos, not trend")
-        ax.set_xlabel("iteration")
-        ax.set_ylabel("raw gradient norm per start (unconstrained units)")
-        health = gradient_health(result)
-        ax.set_title(f"raw gradient norms: exploding on {health['starts']['exploding']} of "
-                     f"{health['starts']['n']} starts, vanishing on {health['starts']['vanishing']}", fontsize=9)
-        ax.legend(fontsize=8)
-    fig.tight_layout()
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
+        _norm_panel(axes[1], norms, colours, its[-1] if polish_at is None else polish_at, unit)
+    return fig
+
+
+def _norm_panel(ax, norms: list, colours: list, last: int, unit: str) -> None:
+    """Every start's raw gradient norm per iteration (log scale), :data:`EXPLODING` and :data:`VANISHING`
+    marked; ``last``: the last position of the shared iteration axis (the final evaluation, or the polish)."""
+    its = [int(h["iteration"]) for h in norms]
+    g = np.array([[np.nan if v is None else v for v in h["grad_norm"]] for h in norms], dtype=float)
+    shown = np.where(g > 0, g, np.nan)
+    edge = ax.get_xaxis_transform()  # x in data, y in axes fraction
+    flagged = {"non-finite (drawn at the top edge)": (~np.isfinite(g), 0.97, "x"),
+               "exactly 0 (drawn at the bottom edge)": (g == 0, 0.03, "v")}
+    labelled = set()
+    for i in range(g.shape[1]):
+        ax.plot(its, shown[:, i], "o-", color=colours[i], ms=3, lw=0.9, alpha=0.8)
+        for label, (mask, y, marker) in flagged.items():
+            if mask[:, i].any():
+                ax.plot(np.asarray(its)[mask[:, i]], np.full(int(mask[:, i].sum()), y), marker, color=colours[i],
+                        transform=edge, ms=6, label=None if label in labelled else label)
+                labelled.add(label)
+    ax.set_yscale("log")
+    ax.axhline(EXPLODING, color="k", ls="--", lw=1, label=f"exploding: above {EXPLODING:g} (chaos, not trend)")
+    ax.axhline(VANISHING, color="k", ls=":", lw=1.2, label=f"vanishing: below {VANISHING:g} (flat, nothing to climb)")
+    # the final evaluation (and the polish) only simulate: no gradient there
+    if max(its) < last:
+        ax.axvspan(max(its) + 0.5, last + 0.5, color="0.92", lw=0,
+                   label="no gradient: final evaluation" + (" and polish" if last > max(its) + 1 else ""))
+    ax.set_xlabel("iteration")
+    ax.set_ylabel(f"raw gradient norm [{unit} per unconstrained unit]")
+    small = g < VANISHING
+    big = ~np.isfinite(g) | (g > EXPLODING)
+    n = g.shape[1]
+    ax.set_title(f"raw gradient norms (before clipping) of {n} start{'s' if n != 1 else ''}\n"
+                 f"starts whose gradient exploded at some iteration: {int(big.any(axis=0).sum())}\n"
+                 f"starts whose gradient vanished at every iteration: {int(small.all(axis=0).sum())}; "
+                 f"at some iteration: {int(small.any(axis=0).sum())}", fontsize=9)
+    ax.legend(fontsize=8, loc="upper center", bbox_to_anchor=(0.5, -0.13), ncol=2, frameon=False)
+
+
+def plot_search(result: SearchResult, path) -> None:
+    """Save a picture of a search to ``path`` (PNG/PDF/SVG).
+
+    An iterative search (gradient, perturbation): every start's true count (or distance) and the best
+    so far per iteration, the polish's throws at the tick "polish"; for a gradient search, a second
+    panel with every start's raw gradient norm per iteration (log scale, :data:`EXPLODING` and
+    :data:`VANISHING` marked): gradient-norm monitoring at a glance. A grid, random or local search:
+    the histogram of the true bounce counts of every throw evaluated, the best count marked."""
+    _search_figure(result).savefig(path, dpi=120)
 
 
 __all__ = ["EXPLODING", "VANISHING", "SearchResult", "gradient_health", "gradient_search", "grid_points", "grid_search", "local_search", "perturbation_search",

@@ -597,40 +597,94 @@ def merge(folders, out_dir) -> dict:
     return result
 
 
-def plot_sweep(result: dict, path) -> None:
-    """Picture of a sweep: U_min(tilt), or the bounce domain in the (tilt, attack) plane."""
-    import matplotlib
+def _umin_panel(ax, result: dict) -> None:
+    """U_min(tilt): each bisection's bracket (U - resolution, U] as an error bar below its top U."""
+    spec = result["spec"]
+    low, high = spec["speed_range"]
+    tilts = np.asarray(spec["tilts"], dtype=float)
+    u = np.array([np.nan if v is None else v for v in result["umin"]], dtype=float)
+    at_low = np.asarray(result.get("bounces_at_low") or [0] * len(u)) > 0
+    res = result.get("resolution")
+    if res is None:
+        res = (high - low) / 2 ** spec["iterations"]
+    bracketed = np.isfinite(u) & ~at_low
+    ax.plot(tilts, u, "-", color="C0", lw=1, alpha=0.6)
+    bars = None
+    if bracketed.any():
+        k = int(bracketed.sum())
+        bars = ax.errorbar(tilts[bracketed], u[bracketed], yerr=[np.full(k, res), np.zeros(k)], fmt="o",
+                           color="C0", ms=5, capsize=3,
+                           label=f"{spec['stone']}, {spec['attitude']} attitude: bisection bracket, "
+                                 f"true U_min in (U − {res:.3g}, U] m/s")
+    if at_low.any():
+        ax.plot(tilts[at_low], u[at_low], "v", color="C0", ms=7, mfc="none",
+                label=f"bounces at the bracket's low end: U_min ≤ {low:g} m/s")
+    none = np.isnan(u)
+    if none.any():
+        ax.plot(tilts[none], np.full(int(none.sum()), high), "x", color="gray",
+                label=f"no bounce up to {high:g} m/s (the bracket's top)")
+    if result.get("best_tilt") is not None:
+        u0 = result["best_umin"]
+        where = (f"U_min ≤ {u0:.2f} m/s" if u0 <= low else f"U_min in ({u0 - res:.2f}, {u0:.2f}] m/s")
+        ax.axvline(result["best_tilt"], color="C3", lw=0.8, ls="--",
+                   label=f"lowest grid point: {result['best_tilt']:g}°, {where}")
+    if result.get("best_tilt_fit") is not None:
+        ax.plot([result["best_tilt_fit"]], [result["best_umin_fit"]], "*", color="C3", ms=10,
+                label=f"between grid points (parabola): {result['best_umin_fit']:.2f} m/s at "
+                      f"{result['best_tilt_fit']:.1f}°")
+    ax.set_xlabel("tilt α [deg]")
+    ax.set_ylabel("minimal speed for a bounce U_min [m/s]")
+    ax.set_title(f"U_min(α) at attack β = {spec['attacks'][0]:g}°, spin {spec['spin']:g} rev/s", fontsize=10)
+    handles, labels = ax.get_legend_handles_labels()
+    order = sorted(range(len(handles)), key=lambda i: handles[i] is not bars)  # the error bars first
+    ax.legend([handles[i] for i in order], [labels[i] for i in order], fontsize=8, loc="upper center",
+              bbox_to_anchor=(0.5, -0.14), ncol=1, frameon=False)
 
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+
+def _domain_panel(fig, ax, result: dict) -> None:
+    """Bounce counts on the (attack, tilt) grid, the edge of the bouncing region outlined."""
+    from matplotlib.lines import Line2D
+    from matplotlib.ticker import MaxNLocator
 
     spec = result["spec"]
-    fig, ax = plt.subplots(figsize=(6.4, 4.2))
-    if spec["kind"] == "umin":
-        u = np.array([np.nan if v is None else v for v in result["umin"]])
-        ax.plot(spec["tilts"], u, "o-", label=f"{spec['stone']}, {spec['attitude']} attitude")
-        none = np.isnan(u)
-        if none.any():
-            ax.plot(np.asarray(spec["tilts"])[none], np.full(none.sum(), spec["speed_range"][1]), "x", color="gray",
-                    label=f"no bounce up to {spec['speed_range'][1]:g} m/s")
-        if result["best_tilt"] is not None:
-            ax.axvline(result["best_tilt"], color="C3", lw=0.8, ls="--",
-                       label=f"min {result['best_umin']:.2f} m/s at {result['best_tilt']:g}°")
-        if result.get("best_tilt_fit") is not None:
-            ax.plot([result["best_tilt_fit"]], [result["best_umin_fit"]], "*", color="C3", ms=9,
-                    label=f"between grid points: {result['best_tilt_fit']:.1f}°")
-        ax.set_xlabel("tilt α [deg]")
-        ax.set_ylabel("minimal speed for a bounce U_min [m/s]")
-        ax.set_title(f"U_min(α) at β = {spec['attacks'][0]:g}°, {spec['spin']:g} rev/s")
-        ax.legend(fontsize=8)
+    b = np.asarray(result["bounces"], dtype=float)
+    top = int(np.nanmax(b)) if b.size and np.isfinite(b).any() else 0
+    if top <= 20:  # a colour per count, each centred on its integer tick
+        from matplotlib import colormaps
+
+        mesh = ax.pcolormesh(spec["attacks"], spec["tilts"], b, shading="nearest",
+                             cmap=colormaps["viridis"].resampled(top + 1), vmin=-0.5, vmax=top + 0.5)
     else:
-        b = np.asarray(result["bounces"], dtype=float)
         mesh = ax.pcolormesh(spec["attacks"], spec["tilts"], b, shading="nearest", cmap="viridis")
-        ax.contour(spec["attacks"], spec["tilts"], (b > 0).astype(float), levels=[0.5], colors="w", linewidths=1)
-        fig.colorbar(mesh, ax=ax, label="bounces")
-        ax.set_xlabel("impact angle β [deg]")
-        ax.set_ylabel("tilt α [deg]")
-        ax.set_title(f"bounce domain at {spec['speed']:g} m/s, {spec['spin']:g} rev/s ({spec['stone']})")
-    fig.tight_layout()
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
+    cbar = fig.colorbar(mesh, ax=ax, label="true bounce count [bounces]")
+    cbar.ax.yaxis.set_major_locator(MaxNLocator(integer=True))
+    if min(b.shape) >= 2 and (b > 0).any() and (b == 0).any():
+        ax.contour(spec["attacks"], spec["tilts"], (b > 0).astype(float), levels=[0.5], colors="C3", linewidths=1.5)
+        edge = Line2D([], [], color="C3", lw=1.5,
+                      label="edge of the bounce domain (≥ 1 bounce), halfway between grid points")
+        ax.legend(handles=[edge],
+                  fontsize=8, loc="upper center", bbox_to_anchor=(0.5, -0.14), frameon=False)
+    ax.set_xlabel("impact angle β [deg]")
+    ax.set_ylabel("tilt α [deg]")
+    ax.set_title(f"bounce domain at speed {spec['speed']:g} m/s, spin {spec['spin']:g} rev/s ({spec['stone']}, "
+                 f"{spec['attitude']} attitude)", fontsize=10)
+
+
+def _sweep_figure(result: dict):
+    """The figure :func:`plot_sweep` saves (a :class:`matplotlib.figure.Figure`, no pyplot state)."""
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=(6.8, 5.2), layout="constrained")
+    ax = fig.subplots()
+    if result["spec"]["kind"] == "umin":
+        _umin_panel(ax, result)
+    else:
+        _domain_panel(fig, ax, result)
+    return fig
+
+
+def plot_sweep(result: dict, path) -> None:
+    """Save a picture of a sweep to ``path`` (PNG/PDF/SVG): U_min(tilt), each bisection's bracket
+    ``(U - resolution, U]`` drawn as an error bar below its top U; or the bounce domain in the (tilt,
+    attack) plane."""
+    _sweep_figure(result).savefig(path, dpi=120)
