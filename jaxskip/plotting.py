@@ -78,7 +78,9 @@ def plot_throw(result, path=None, *, ax=None):
     _number_contacts(side, fig, [c.x for c in result.contacts], xlim)
     side.set_xlim(*xlim)
     side.set_ylabel("height [cm]")
-    side.set_ylim(min(-2.0, z.min() * 100 - 0.5), max(z.max() * 100 * 1.15, 2.0))
+    top_cm = max(z.max() * 100 * 1.15, 2.0)
+    # room under the water line for three rows of contact numbers and the legend's row
+    side.set_ylim(min(-2.0, z.min() * 100 - 0.5, -0.45 * top_cm), top_cm)
     th = result.throw
     side.set_title(
         f"{result.stone_name} stone, {result.mass * 1e3:.1f} g: "
@@ -87,7 +89,7 @@ def plot_throw(result, path=None, *, ax=None):
         f"  →  {result.bounces} bounces, {result.distance:.1f} m, {result.outcome.replace('_', ' ')}",
         fontsize=10,
     )
-    side.legend(loc="lower left", fontsize=8, frameon=False)   # under the water line: the stone is rarely there
+    side.legend(loc="lower left", ncol=3, fontsize=8, frameon=False)   # one row under the water line, below the numbers
 
     top.plot(x, y * 100, color="0.2", lw=1.0)
     if wet.any():
