@@ -123,16 +123,16 @@ def _arc_path(result, longest: float = 1e-3):
     x = np.asarray(traj["position"], dtype=np.float64)
     v = np.asarray(traj["velocity"], dtype=np.float64)
     g = float(result.water.gravity) if getattr(result, "water", None) is not None else 9.81
-    times, points = [t[:1]], [x[:1]]
-    for k in range(len(t) - 1):
-        h = t[k + 1] - t[k]
-        n = int(min(32, math.ceil(h / longest))) if h > longest else 1
-        tau = h * np.arange(1, n + 1) / n
-        arc = x[k] + v[k] * tau[:, None] - 0.5 * g * np.array([0.0, 0.0, 1.0]) * tau[:, None] ** 2
-        arc[-1] = x[k + 1]                      # the step's own end (the same point in flight)
-        times.append(t[k] + tau)
-        points.append(arc)
-    return np.concatenate(times), np.concatenate(points)
+    h = np.diff(t)
+    n = np.where(h > longest, np.minimum(32, np.ceil(h / longest)), 1).astype(int)   # points per step
+    k = np.repeat(np.arange(len(h)), n)                                                # their step
+    j = np.arange(len(k)) - np.repeat(np.cumsum(n) - n, n) + 1                          # 1 .. n within it
+    tau = h[k] * j / n[k]
+    arc = x[k] + v[k] * tau[:, None] - 0.5 * g * np.array([0.0, 0.0, 1.0]) * tau[:, None] ** 2
+    times = t[k] + tau
+    last = j == n[k]
+    arc[last], times[last] = x[k[last] + 1], t[k[last] + 1]   # each step's own end (the same point in flight)
+    return np.concatenate([t[:1], times]), np.concatenate([x[:1], arc])
 
 
 def _downrange_limits(x):
