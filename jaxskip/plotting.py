@@ -47,7 +47,8 @@ def plot_throw(result, path=None, *, ax=None):
     ----------
     result : the throw to draw.
     path : if given, save the figure there (PNG, PDF, SVG by extension) and close it.
-    ax : optional pair of matplotlib axes (side, top) to draw into.
+    ax : optional pair of matplotlib axes (side, top) to draw into (the figure's layout is then left to
+        the caller; a panel under 6 inches wide gets its title on two lines).
 
     Returns
     -------
@@ -82,13 +83,12 @@ def plot_throw(result, path=None, *, ax=None):
     # room under the water line for three rows of contact numbers and the legend's row
     side.set_ylim(min(-2.0, z.min() * 100 - 0.5, -0.45 * top_cm), top_cm)
     th = result.throw
-    side.set_title(
-        f"{result.stone_name} stone, {result.mass * 1e3:.1f} g: "
-        f"{float(th.speed):.1f} m/s, tilt {math.degrees(float(th.tilt)):.1f}°, "
-        f"attack {math.degrees(float(th.attack)):.1f}°, spin {float(th.spin) / (2 * math.pi):.1f} rev/s"
-        f"  →  {result.bounces} bounces, {result.distance:.1f} m, {result.outcome.replace('_', ' ')}",
-        fontsize=10,
-    )
+    throw = (f"{result.stone_name} stone, {result.mass * 1e3:.1f} g: "
+             f"{float(th.speed):.1f} m/s, tilt {math.degrees(float(th.tilt)):.1f}°, "
+             f"attack {math.degrees(float(th.attack)):.1f}°, spin {float(th.spin) / (2 * math.pi):.1f} rev/s")
+    outcome = f"{result.bounces} bounces, {result.distance:.1f} m, {result.outcome.replace('_', ' ')}"
+    wide = fig.get_size_inches()[0] * side.get_position().width >= 6.0       # inches of axis
+    side.set_title(f"{throw}  →  {outcome}" if wide else f"{throw}\n→  {outcome}", fontsize=10 if wide else 9)
     side.legend(loc="lower left", ncol=3, fontsize=8, frameon=False)   # one row under the water line, below the numbers
 
     top.plot(x, y * 100, color="0.2", lw=1.0)
@@ -104,7 +104,8 @@ def plot_throw(result, path=None, *, ax=None):
         mid = 0.5 * (lo + hi)
         top.set_ylim(mid - 1.0, mid + 1.0)
     top.ticklabel_format(axis="y", useOffset=False, style="plain")
-    fig.tight_layout()
+    if ax is None:      # axes passed in: their figure's layout is the caller's
+        fig.tight_layout()
     if path is not None:
         fig.savefig(path, dpi=130)
         plt.close(fig)
