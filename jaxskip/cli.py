@@ -321,6 +321,11 @@ def main(argv=None) -> int:
         return _run(args, MeshError)
 
 
+EXIT_BROKEN_PIPE = 141
+"""Exit status when the reader of stdout went away (``jaxskip throw --json | head``): 128 + SIGPIPE, as a
+shell reports a command killed by it."""
+
+
 def _run(args, MeshError) -> int:
     try:
         if args.command == "throw":
@@ -328,6 +333,11 @@ def _run(args, MeshError) -> int:
         from .cli_search import run_optimize, run_sweep_command
 
         return run_optimize(args) if args.command == "optimize" else run_sweep_command(args)
+    except BrokenPipeError:
+        # The reader closed the pipe: nothing to report. Point stdout at /dev/null so that the
+        # interpreter's final flush does not raise again.
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        return EXIT_BROKEN_PIPE
     except (ParameterError, MeshError, ValueError, OSError) as exc:
         print(f"jaxskip: error: {_with_flag(str(exc), args)}", file=sys.stderr)
         return EXIT_USAGE

@@ -288,3 +288,16 @@ def test_throw_does_not_import_the_search_package():
     p = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=300)
     assert p.returncode == 0, p.stderr[-2000:]
     assert "imported: False False" in p.stdout
+
+
+def test_a_reader_that_goes_away_ends_the_command_quietly():
+    """`jaxskip throw --json | head -c 1`: the reader closes the pipe before the output is written. The
+    command exits with 141 (128 + SIGPIPE, as a shell reports it) and says nothing: no 'error:
+    Broken pipe', no traceback."""
+    env = {**os.environ, "PYTHONPATH": ROOT + os.pathsep + os.environ.get("PYTHONPATH", "")}
+    p = subprocess.Popen([sys.executable, "-m", "jaxskip", "throw", "--json", "--duration", "0.05"],
+                         stdout=subprocess.PIPE, stderr=subprocess.PIPE, cwd=ROOT, env=env)
+    p.stdout.close()                      # gone before anything is written
+    _, err = p.communicate(timeout=300)
+    assert p.returncode == 141, err
+    assert err.decode().strip() == ""
