@@ -133,27 +133,56 @@ print("free-body bounces vs spin:", dict(zip(spins.tolist(), np.asarray(trs.boun
       f"; fixed tilt: {int(trf.bounces)}")
 
 # %%
+from matplotlib.ticker import LogLocator, MaxNLocator, NullFormatter, ScalarFormatter  # noqa: E402
+
 fig, ax = plt.subplots(1, 4, figsize=(17, 4))
-for attack, marker in zip(attacks, ("o", "s")):
+# (1) log axes show positive counts only; a zero count (no bounce) is a 'v' at the bottom edge.
+zero_any = False
+for attack, marker, color in zip(attacks, ("o", "s"), ("C0", "C1")):
     n_mesh, n_red = counts[attack]
-    ax[0].loglog(speeds, np.maximum(n_mesh, 0.5), marker, label=f"mesh, attack {attack:g}°")
-    ax[0].loglog(speeds, np.maximum(n_red, 0.5), "-", label=f"reduced, attack {attack:g}°")
+    ax[0].loglog(speeds, np.where(n_mesh > 0, n_mesh, np.nan), marker, color=color, label=f"mesh, attack {attack:g}°")
+    ax[0].loglog(speeds, np.where(n_red > 0, n_red, np.nan), "-", color=color, label=f"reduced, attack {attack:g}°")
+    for n, fill in ((n_mesh, color), (n_red, "none")):
+        zero = n == 0
+        if zero.any():   # (x in data, y in axes coordinates: at the bottom edge)
+            zero_any = True
+            ax[0].plot(speeds[zero], np.full(zero.sum(), 0.03), "v", color=color, mfc=fill, ms=8,
+                       transform=ax[0].get_xaxis_transform())
 ax[0].loglog(speeds, counts[1.0][1][-1] * (speeds / speeds[-1]) ** 2, "k:", label="∝ V²")
+if zero_any:
+    ax[0].plot([], [], "v", color="0.4", ms=8, ls="none", label="no bounce, N = 0 (bottom edge; open: reduced)")
+positive = np.concatenate([n[n > 0] for pair in counts.values() for n in pair])
+low = positive.min() / 1.6   # room for the zeros below the lowest count
+ax[0].set_ylim(low, low * (positive.max() / low) ** (1 / 0.65))   # the data in the lower 65 %, the legend above
+ax[0].xaxis.set_major_locator(MaxNLocator(integer=True))
+for axis in (ax[0].xaxis, ax[0].yaxis):
+    axis.set_major_formatter(ScalarFormatter())
+    axis.set_minor_formatter(NullFormatter())
+ax[0].yaxis.set_major_locator(LogLocator(subs=(1.0, 2.0, 5.0)))
 ax[0].set(xlabel="speed [m/s]", ylabel="bounces", title=f"N vs V (tilt {tilt:g}°)")
-ax[0].legend(fontsize=7)
+ax[0].legend(fontsize=7, loc="upper left")
 ax[1].plot(speeds, tau_mesh * 1e3, "o", label="mesh")
 ax[1].plot(speeds, tau_red * 1e3, "-", label="reduced")
+missing = ~np.isfinite(tau_mesh)
+if missing.any():   # the first contact never ended (t_end NaN); these throws are section 1's at attack 1°
+    why = ("the disk sinks in its first contact (0 bounces)" if (counts[1.0][0][missing] == 0).all()
+           else "its first contact does not end")
+    ax[1].text(0.97, 0.72, f"no mesh contact time at {', '.join(f'{v:g}' for v in speeds[missing])} m/s:\n{why}",
+               transform=ax[1].transAxes, ha="right", va="top", fontsize=7, color="0.3")
 ax[1].set(xlabel="speed [m/s]", ylabel="first contact [ms]", title="contact time ∝ 1/V")
 ax[1].legend(fontsize=7)
 ax[2].plot(grid_v, np.asarray(trm.bounces), "o", label="mesh")
-ax[2].plot(grid_v, np.asarray(rv.bounces), "-", label="reduced")
+ax[2].plot(grid_v, np.asarray(rv.bounces), "-", drawstyle="steps-mid", label="reduced")
 ax[2].axvline(2.5, color="0.6", ls="--", label="Clanet ≈ 2.5 m/s")
+ax[2].yaxis.set_major_locator(MaxNLocator(integer=True))
 ax[2].set(xlabel="speed [m/s]", ylabel="bounces", title="minimum speed (tilt 20°, attack 20°)")
 ax[2].legend(fontsize=7)
 ax[3].plot(spins, np.asarray(trs.bounces), "o-", label="free body")
 ax[3].axhline(int(trf.bounces), color="k", ls=":", label="tilt held (infinite-spin limit)")
 ax[3].set_xscale("symlog", linthresh=10.0)
-ax[3].set_xlim(0.0, 600.0)
+ax[3].set_xlim(0.0, 1.5 * spins.max())
+ax[3].xaxis.set_major_formatter(ScalarFormatter())
+ax[3].yaxis.set_major_locator(MaxNLocator(integer=True))
 ax[3].set(xlabel="spin [rev/s]", ylabel="bounces", title="free disk vs spin (8 m/s): the tilt precesses")
 ax[3].legend(fontsize=7)
 fig.tight_layout()

@@ -93,20 +93,46 @@ print(f"domain at 3.5 m/s: widest range of attack angles at tilt {widest:g}°; "
 
 # %%
 fig, ax = plt.subplots(1, 3, figsize=(16, 4.2))
-ax[0].plot(tilts, umin["fixed"], "o-", label="Bocquet law, tilt held")
-ax[0].plot(tilts, umin["free"], "s--", label="Bocquet law, free body at 65 rev/s")
-ax[0].plot(tilts, umin["seed"], "^:", label="seed law, tilt held")
+# A coarse U_min is the top of its bisection's final bracket: the true value lies in (U_min - res, U_min].
+res = coarse["resolution"]
+top_speed = coarse["spec"]["speed_range"][1]   # (the seed law's grid ends there too)
+for key, style, text in (("fixed", "o-", "Bocquet law, tilt held"),
+                         ("free", "s--", "Bocquet law, free body at 65 rev/s"),
+                         ("seed", "^:", f"seed law, tilt held (speeds every {speeds[1] - speeds[0]:.2g} m/s)")):
+    line, = ax[0].plot(tilts, umin[key], style, label=text)
+    if key != "seed":
+        ax[0].fill_between(tilts, umin[key] - res, umin[key], color=line.get_color(), alpha=0.2, lw=0)
+    none = np.isnan(umin[key])   # no bounce up to the top of the speed range
+    ax[0].plot(np.asarray(tilts)[none], np.full(none.sum(), top_speed), "x", color=line.get_color(), ms=8)
+    if key == "free":
+        ax[0].fill_between([], [], [], color="0.5", alpha=0.3, lw=0,
+                           label=f"shaded: bisection bracket (U_min − {res:.2g}, U_min]")
+if any(np.isnan(u).any() for u in umin.values()):
+    ax[0].plot([], [], "x", color="0.4", ms=8, ls="none", label=f"no bounce up to {top_speed:g} m/s")
 ax[0].plot([fine["best_tilt_fit"]], [fine["best_umin_fit"]], "*", color="C3", ms=10,
-           label=f"minimum, tilt held: {fine['best_tilt_fit']:.1f}°, {fine['best_umin_fit']:.2f} m/s")
-ax[0].axhline(2.5, color="0.6", ls="--", lw=0.8, label="Clanet ≈ 2.5 m/s")
-ax[0].axvline(45.0, color="0.8", lw=0.8)
-ax[0].set(xlabel="tilt [deg]", ylabel="U_min [m/s]", title="(a) minimal speed for a bounce, β = 20°")
-ax[0].legend(fontsize=7)
+           label=f"minimum, tilt held: {fine['best_tilt_fit']:.1f}°, {fine['best_umin_fit']:.2f} m/s\n"
+                 f"(finer sweep every {step:g}°, bracket {fine['resolution']:.2g} m/s)")
+ax[0].axhline(2.5, color="0.6", ls="--", lw=0.8)
+ax[0].axvline(45.0, color="0.7", lw=0.8, label="Clanet: no bounce beyond ≈ 45°")
+ax[0].text(0.62, 2.45, "Clanet ≈ 2.5 m/s", transform=ax[0].get_yaxis_transform(), ha="center", va="top",
+           fontsize=7, color="0.4")
+top = top_speed if any(np.isnan(u).any() for u in umin.values()) else np.nanmax([np.nanmax(u) for u in umin.values()])
+ax[0].set_ylim(0.0, 1.6 * top)   # headroom for the legend
+ax[0].set(xlabel="tilt α [deg]", ylabel="U_min [m/s]", title="(a) minimal speed for a bounce, β = 20°")
+ax[0].legend(fontsize=6.5, loc="upper left")
 im = ax[1].pcolormesh(np.asarray(d_tilts), np.asarray(d_attacks), B.T, cmap="Blues", shading="nearest")
 fig.colorbar(im, ax=ax[1], label="bounces")
-ax[1].set(xlabel="tilt [deg]", ylabel="attack β [deg]", title="(b) bounce domain at 3.5 m/s")
+ax[1].set(xlabel="tilt α (of the disk) [deg]", ylabel="attack β (impact angle of the velocity) [deg]",
+          title="(b) bounce domain at 3.5 m/s")
 ax[2].plot(d_tilts, Tc[:, j20] * 1e3, "o-")
-ax[2].set(xlabel="tilt [deg]", ylabel="first contact [ms]",
+dropped = ~np.isfinite(Tc[:, j20])
+if dropped.any():   # a first contact that never ends (t_end NaN): the disk sinks in it
+    why = ("the disk sinks in its first contact (no bounce)" if (B[dropped, j20] == 0).all()
+           else "first contact unfinished")
+    ax[2].text(0.97, 0.04, f"tilt {', '.join(f'{t:g}°' for t in np.asarray(d_tilts)[dropped])} not drawn: no contact "
+               f"time,\n{why}", transform=ax[2].transAxes, ha="right", va="bottom", fontsize=7, color="0.3")
+ax[2].set_xlim(min(d_tilts) - 2.5, max(d_tilts) + 2.5)
+ax[2].set(xlabel="tilt α [deg]", ylabel="first contact [ms]",
           title=f"(c) contact time at 3.5 m/s, β = {d_attacks[j20]:g}°")
 fig.tight_layout()
 path = RUN.figure("magic_angle.png")

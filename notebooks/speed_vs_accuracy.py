@@ -28,6 +28,8 @@ import jax
 import jax.numpy as jnp
 import matplotlib.pyplot as plt
 import numpy as np
+from matplotlib.ticker import LogFormatter
+from matplotlib.transforms import Bbox
 
 from jaxskip.notebook import notebook_mode
 
@@ -207,36 +209,119 @@ print(f"default on the front: {d in front}; its error {err[d]:.3f} vs the front'
       f"{best_err:.3f} ({gap:+.0%}; criterion: within 10 %)")
 
 FLOOR = 1e-3  # a zero error (a series' reference against itself in quick mode) is drawn here on the log axis
-fig, ax = plt.subplots(figsize=(9, 6))
+
+
+def place_labels(ax, labels, fontsize=7):
+    """Write each ``(text, (x, y), color)`` of ``labels`` beside its point (data coordinates), greedily,
+    the first label and then the most crowded points first: of a few candidate offsets, nearest first,
+    the first whose box overlaps no label already placed, keeps clear of the other labelled points, the
+    lines drawn and the legend, stays inside the axes, and whose leader line crosses no label, other
+    point or leader line (if none does, the candidate with the fewest clashes, weighted). A label set
+    away from its point gets a thin leader line. Call after the layout is final. Returns each label's
+    weighted clashes (0: clear of everything)."""
+    fig = ax.figure
+    fig.canvas.draw()
+    renderer = fig.canvas.get_renderer()
+    px = fig.dpi / 72   # pixels per point
+    xy_px = ax.transData.transform(np.asarray([xy for _, xy, _ in labels], float))
+    r = 7.0 * px   # a marker's half-size (the default's ring)
+    markers = [Bbox.from_extents(x - r, y - r, x + r, y + r) for x, y in xy_px]
+    boxes = [ax.get_legend().get_window_extent(renderer)] if ax.get_legend() is not None else []
+    leaders = []   # (start, end) of the leader lines drawn so far [px]
+    drawn = [ax.transData.transform(np.asarray(line.get_xydata(), float)) for line in ax.get_lines()
+             if line.get_linestyle() not in ("None", "", " ") and len(line.get_xydata()) > 1]
+    # points along the lines drawn (Pareto front, series): a label on a line is harder to read
+    drawn = np.vstack([a + np.linspace(0, 1, 40)[:, None] * (b - a) for xy in drawn for a, b in zip(xy[:-1], xy[1:])]
+                      or [np.zeros((0, 2))])
+    frame = ax.get_window_extent(renderer)
+    ways = [(1, 0), (1, 1), (1, -1), (-1, 0), (-1, 1), (-1, -1), (0, 1), (0, -1),
+            (2, 1), (2, -1), (-2, 1), (-2, -1), (1, 2), (1, -2), (-1, 2), (-1, -2)]
+    candidates = [(dist, dx, dy) for dist in (9, 18, 28, 40, 54, 70, 88, 108, 130) for dx, dy in ways]
+
+    def crosses(p, q, box, skip=0.0):   # the segment p-q passes through the box (sampled; ``skip`` px from p)
+        pts = p + np.linspace(min(skip / max(np.hypot(*(q - p)), 1e-9), 1.0), 1.0, 16)[:, None] * (q - p)
+        return bool(((pts[:, 0] > box.x0) & (pts[:, 0] < box.x1) & (pts[:, 1] > box.y0) & (pts[:, 1] < box.y1)).any())
+
+    def intersect(p, q, a, b):   # the segments p-q and a-b cross
+        def side(u, v, w):
+            return np.sign((v[0] - u[0]) * (w[1] - u[1]) - (v[1] - u[1]) * (w[0] - u[0]))
+        return side(p, q, a) * side(p, q, b) < 0 and side(a, b, p) * side(a, b, q) < 0
+
+    gap = np.hypot(*(xy_px[:, None, :] - xy_px[None, :, :]).transpose(2, 0, 1))
+    crowd = (gap < 40 * px).sum(axis=1)
+    clashes = {}
+    for k in [0] + sorted(range(1, len(labels)), key=lambda j: -crowd[j]):
+        text, xy, color = labels[k]
+        # other points, with a margin: a label next to another point would read as that point's
+        others = [m.padded(4 * px) for j, m in enumerate(markers) if j != k]
+        # (a leader may cross the markers of points on top of its own: it cannot avoid them)
+        apart = [m for j, m in enumerate(markers) if j != k and gap[j, k] > 2 * r]
+        best = None
+        for dist, dx, dy in candidates:
+            n = np.hypot(dx, dy)
+            off = (dist * dx / n, dist * dy / n)
+            align = dict(ha="left" if dx > 0 else "right" if dx < 0 else "center",
+                         va="bottom" if dy > 0 else "top" if dy < 0 else "center")
+            t = ax.annotate(text, xy, xytext=off, textcoords="offset points", fontsize=fontsize, **align)
+            box = t.get_window_extent(renderer).padded(2)
+            t.remove()
+            start, end = xy_px[k], xy_px[k] + np.asarray(off) * px
+            lead = dist > 9
+            # clashes, weighted: on a label or out of the axes, worst; on a point; a crossed line, least
+            clash = (10 * sum(box.overlaps(o) for o in boxes) + 3 * sum(box.overlaps(o) for o in others)
+                     + 3 * sum(crosses(a, b, box) for a, b in leaders)
+                     + 2 * bool(((drawn[:, 0] > box.x0) & (drawn[:, 0] < box.x1) & (drawn[:, 1] > box.y0)
+                                 & (drawn[:, 1] < box.y1)).any())
+                     + (3 * sum(crosses(start, end, o, r) for o in boxes)
+                        + sum(crosses(start, end, o, r) for o in apart)
+                        + sum(intersect(start, end, a, b) for a, b in leaders) if lead else 0)
+                     + 100 * (box.x0 < frame.x0 or box.x1 > frame.x1 or box.y0 < frame.y0 or box.y1 > frame.y1))
+            if best is None or clash < best[0]:
+                best = (clash, off, align, box, lead, (start, end))
+            if clash == 0:
+                break
+        clash, off, align, box, lead, segment = best
+        clashes[text] = clash
+        # (the leader starts at the label's anchor, the corner or edge facing its point: relpos)
+        relpos = ({"left": 0.0, "center": 0.5, "right": 1.0}[align["ha"]],
+                  {"bottom": 0.0, "center": 0.5, "top": 1.0}[align["va"]])
+        ax.annotate(text, xy, xytext=off, textcoords="offset points", fontsize=fontsize, color=color, **align,
+                    arrowprops=dict(arrowstyle="-", lw=0.6, color=color, alpha=0.6, shrinkA=1, shrinkB=4,
+                                    relpos=relpos) if lead else None)
+        boxes.append(box)
+        if lead:
+            leaders.append(segment)
+    return clashes
+
+
+fig, ax = plt.subplots(figsize=(9, 6), dpi=110)
 ax.scatter(cost * 1e3, err, color="C0", label="paper stone: dt, integrator, flight, clipping, precision")
-for i, r in enumerate(paper_rows):
-    # (labels fanned out vertically: neighbours on the chart sit within a few percent of each other)
-    ax.annotate(r[0], (cost[i] * 1e3, err[i]), fontsize=7, xytext=(5, 12 * (i % 4) - 14), textcoords="offset points",
-                arrowprops=dict(arrowstyle="-", lw=0.4, color="0.6"))
 order = sorted(front, key=lambda i: cost[i])
 ax.plot(cost[order] * 1e3, err[order], "k--", lw=0.8, label="Pareto front")
 ax.scatter([cost[d] * 1e3], [err[d]], s=160, facecolors="none", edgecolors="C3", lw=2, label="default")
 dc = np.array([r[1] for r in disk_rows])
 de = np.array([error(r) for r in disk_rows])
 ax.plot(dc * 1e3, np.maximum(de, FLOOR), "s-", color="C2", label="disk: mesh resolution (own reference)")
-for r, c, e in zip(disk_rows, dc, de):
-    ax.annotate(r[0].replace("disk, ", ""), (c * 1e3, max(e, FLOOR)), fontsize=7, xytext=(4, -9), textcoords="offset points")
 wc = np.array([r[1] for r in water_rows])
 we = np.array([error(r) for r in water_rows])
 ax.scatter(wc * 1e3, np.maximum(we, FLOOR), marker="^", color="C4", label=f"water: flat vs height field ({NW} throws, one at a time; own reference)")
-for i, (r, c, e) in enumerate(zip(water_rows, wc, we)):
-    # (labels alternately above and below their points, fanned out: the series' points crowd together)
-    dy = 10 + 12 * (i // 2 % 3) if i % 2 == 0 else -18 - 12 * (i // 2 % 3)
-    ax.annotate(r[0].replace("water: ", ""), (c * 1e3, max(e, FLOOR)), fontsize=7, xytext=(-40, dy),
-                textcoords="offset points", arrowprops=dict(arrowstyle="-", lw=0.4, color="0.6"))
 ax.set_xscale("log")
 ax.set_yscale("log")
+for fmt in (ax.xaxis.set_major_formatter, ax.xaxis.set_minor_formatter):
+    fmt(LogFormatter(labelOnlyBase=False))   # plain numbers (2, 3, 10), not 2×10⁰
 ax.set_ylim(FLOOR / 2, 5 * max(err.max(), we.max(), de.max()))
 ax.set(xlabel="wall time per throw, batch to completion [ms]",
        ylabel="error: count share + first-contact + trajectory (0 at 1e-3)",
        title=f"speed vs accuracy over {N} random throws (reference: dt {ref_dt:g} s, RK4, float64)")
 ax.legend(fontsize=8, loc="lower left")
 fig.tight_layout()
+# Point labels (the default's first), in their series' colours, placed clear of each other, of the points
+# and of the legend.
+labels = ([(paper_rows[d][0], (cost[d] * 1e3, err[d]), "k")]
+          + [(r[0], (cost[i] * 1e3, err[i]), "k") for i, r in enumerate(paper_rows) if i != d]
+          + [(r[0].replace("disk, ", ""), (c * 1e3, max(e, FLOOR)), "C2") for r, c, e in zip(disk_rows, dc, de)]
+          + [(r[0].replace("water: ", ""), (c * 1e3, max(e, FLOOR)), "C4") for r, c, e in zip(water_rows, wc, we)])
+place_labels(ax, labels)
 path = RUN.figure("speed_vs_accuracy.png")
 fig.savefig(path, dpi=110)
 RUN.done(path)

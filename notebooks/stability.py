@@ -176,12 +176,32 @@ grad_err = [float(np.linalg.norm(a - grads64[n]) / np.linalg.norm(grads64[n])) f
 print("float32 gradient relative error vs steps: " + ", ".join(f"{n}: {e:.2g}" for n, e in zip(horizons32, grad_err)))
 
 # %%
+from matplotlib.ticker import NullFormatter  # noqa: E402
+
+
+def few_points_note(a, n):
+    """A note in panel ``a`` when it holds fewer than 2 points (quick mode: its axis is auto-scaled)."""
+    if n < 2:
+        a.text(0.5, 0.94, "quick mode: one point", transform=a.transAxes, ha="center", va="top", fontsize=8,
+               color="0.35", bbox=dict(boxstyle="round", fc="white", ec="0.7"))
+
+
+CAP = 3.0  # panel (1): speed ratios above this (or non-finite) are drawn at the cap as upward triangles
 fig, axes = plt.subplots(2, 3, figsize=(16, 8.5))
 ax = axes.ravel()
 for (speed, integrator), g in gain.items():
-    ax[0].semilogx(dts, np.minimum(g, 3), "o-", label=f"{speed:g} m/s, {integrator}")
+    off = ~(g <= CAP)   # above the cap, or non-finite
+    line, = ax[0].semilogx(dts, np.minimum(g, CAP), "o-", markevery=list(np.flatnonzero(~off)),
+                           label=f"{speed:g} m/s, {integrator}")
+    if off.any():
+        ax[0].semilogx(dts[off], np.full(off.sum(), CAP), "^", color=line.get_color(), ms=9)
+if any((~(g <= CAP)).any() for g in gain.values()):
+    ax[0].plot([], [], "^", color="0.4", ms=9, ls="none", label=f"≥ {CAP:g} (off scale)")
 ax[0].axhline(1.0, color="k", lw=0.8)
 ax[0].axvline(2.5e-4, color="C3", ls="--", label="default dt")
+ax[0].set_xlim(min(dts.min(), 1e-4) / 1.3, dts.max() * 1.3)   # at least two labelled decades
+ax[0].set_ylim(top=CAP * 1.04)
+ax[0].xaxis.set_minor_formatter(NullFormatter())
 ax[0].set(xlabel="contact dt [s]", ylabel="speed out / in (first contact)", title="(1) stone time step")
 ax[0].legend(fontsize=7)
 ax[1].semilogy(factors, growth, "o-")
@@ -192,13 +212,15 @@ ax[2].loglog(horizons, norms, "o-", color="k", label="default throw: |d distance
 for j, (q, style) in enumerate(((50, ":"), (90, "--"), (99, "-"))):
     ax[2].loglog(chaos_horizons, np.maximum(chaos[:, j], 1e-17), "o" + style, color="C3",
                  label=f"smooth count, {q}th percentile over {n_random} random throws [per unit u]")
-ax[2].axhline(EXPLODING, color="C3", lw=0.6, alpha=0.5)
+ax[2].axhline(EXPLODING, color="C3", lw=0.6, alpha=0.5,
+              label=f"'exploding' beyond {EXPLODING:g} (optimize.EXPLODING, gradient_health)")
 ax[2].set(xlabel="rollout steps", ylabel="|gradient|", title="(3) gradient vs horizon: the tail explodes")
 ax[2].legend(fontsize=6)
 ax[3].semilogx(widths, spread, "o-")
 ax[3].axvline(2e-4, color="C3", ls="--", label="default width")
-ax[3].set(xlabel="width [m]", ylabel="std of d(count)/d(speed)", title="(4) surrogate width")
-ax[3].legend(fontsize=7)
+ax[3].set(xlabel="width [m]", ylabel="std of d(count)/d(speed) [per m/s]", title="(4) surrogate width")
+ax[3].legend(fontsize=7, loc="upper right")
+few_points_note(ax[3], len(widths))
 for name, e in clip_err.items():
     ax[4].loglog(kappas, np.maximum(e, 1e-17), "o-", label=name)
 ax[4].axvspan(2e3, 2e4, color="C2", alpha=0.15, label="sharpness used (notebooks)")
@@ -207,6 +229,7 @@ ax[4].set(xlabel="sharpness kappa [1/m]", ylabel="relative wet-area error vs exa
 ax[4].legend(fontsize=7)
 ax[5].semilogy(horizons32, np.maximum(grad_err, 1e-17), "o-")
 ax[5].set(xlabel="rollout steps", ylabel="|g32 - g64| / |g64|", title="(5b) float32 gradient vs float64")
+few_points_note(ax[5], len(horizons32))
 fig.tight_layout()
 path = RUN.figure("stability.png")
 fig.savefig(path, dpi=110)
