@@ -242,6 +242,7 @@ def run_sweep_command(args) -> int:
 
     jax.config.update("jax_enable_x64", True)
     from optimize import make_spec, merge, plot_sweep, run_sweep
+    from optimize.sweep import bracket_digits
 
     if args.kind == "merge":
         result = merge(args.folders, args.out)
@@ -287,7 +288,7 @@ def run_sweep_command(args) -> int:
             else:
                 # the bisection's answer is its final bracket's top (a speed that bounces): the true value lies
                 # within one bracket width below it
-                digits = max(2, 1 - math.floor(math.log10(res))) if res > 0 else 2
+                digits = bracket_digits(res)
                 where = (f"bisection: the true U_min lies in ({u - res:.{digits}f}, {u:.{digits}f}] m/s, a bracket "
                          f"of {res:.2g} m/s")
             print(f"magic angle: {result['best_tilt']:g} deg, U_min {u:.2f} m/s ({where})")

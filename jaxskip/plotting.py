@@ -15,7 +15,7 @@ def _number_contacts(side, fig, xs, xlim, fontsize: float = 7.0, rows: int = 3) 
     numbered (then every 10th, 20th, ...) with the first and the last, so that a gap in the
     numbering is a rule a reader sees, not a silent omission (``rows`` >= 2: the first and the last
     always fit)."""
-    width_pt = fig.get_size_inches()[0] * side.get_position().width * 72.0
+    width_pt = side.bbox.width * 72.0 / side.figure.dpi
     per_m = width_pt / (xlim[1] - xlim[0])             # points per metre along the axis
     char = 0.62 * fontsize                              # a digit's advance [pt], with a little air
     n = len(xs)
@@ -74,8 +74,10 @@ def plot_throw(result, path=None, *, ax=None):
     side.fill_between(xlim, -0.05, 0.0, color="#cfe3f5", zorder=0)
     side.plot(x, z * 100, color="0.2", lw=1.0, label="centre of mass")
     if wet.any():
+        logged = len(result.contacts)
         side.plot(np.where(wet, x, np.nan), np.where(wet, z * 100, np.nan), color="#d1495b", lw=2.5,
-                  label="in contact (numbered)")
+                  label="in contact (numbered)" if result.n_contacts <= logged else
+                  f"in contact (the first {logged} of {result.n_contacts} logged and numbered)")
     _number_contacts(side, fig, [c.x for c in result.contacts], xlim)
     side.set_xlim(*xlim)
     side.set_ylabel("height [cm]")
@@ -87,7 +89,7 @@ def plot_throw(result, path=None, *, ax=None):
              f"{float(th.speed):.1f} m/s, tilt {math.degrees(float(th.tilt)):.1f}°, "
              f"attack {math.degrees(float(th.attack)):.1f}°, spin {float(th.spin) / (2 * math.pi):.1f} rev/s")
     outcome = f"{result.bounces} bounces, {result.distance:.1f} m, {result.outcome.replace('_', ' ')}"
-    wide = fig.get_size_inches()[0] * side.get_position().width >= 6.0       # inches of axis
+    wide = side.bbox.width / side.figure.dpi >= 6.0       # inches of axis
     side.set_title(f"{throw}  →  {outcome}" if wide else f"{throw}\n→  {outcome}", fontsize=10 if wide else 9)
     side.legend(loc="lower left", ncol=3, fontsize=8, frameon=False)   # one row under the water line, below the numbers
 
@@ -112,20 +114,23 @@ def plot_throw(result, path=None, *, ax=None):
     return fig
 
 
-def _arc_path(result, longest: float = 1e-3):
+def _arc_path(result, spacing: float = 1e-3):
     """The centre of mass's path for drawing: ``(times (M,) [s], positions (M, 3) [m])``.
 
-    The recorded steps, with every step longer than ``longest`` [s] (a conservative-advancement jump
-    through the air) filled in along its parabola, ``x + v tau - g tau^2 / 2`` from the step's start:
-    exact in flight, where the integrators carry gravity exactly, so the arcs are drawn curved rather
-    than as the chords between a flight's few steps."""
+    The recorded steps, with every conservative-advancement jump through the air (a dry step longer
+    than ``SimConfig.dt``) filled in along its parabola, ``x + v tau - g tau^2 / 2`` from the step's
+    start, every ``spacing`` [s] or closer (at most 32 points a step): exact there, where the
+    integrators carry gravity exactly, so the arcs are drawn curved rather than as the chords between
+    a flight's few steps. Steps of ``dt`` (in contact, or every step with ``flight="step"``) are joined
+    as recorded."""
     traj = result.trajectory
     t = np.asarray(traj["time"], dtype=np.float64)
     x = np.asarray(traj["position"], dtype=np.float64)
     v = np.asarray(traj["velocity"], dtype=np.float64)
     g = float(result.water.gravity) if getattr(result, "water", None) is not None else 9.81
     h = np.diff(t)
-    n = np.where(h > longest, np.minimum(32, np.ceil(h / longest)), 1).astype(int)   # points per step
+    jump = (h > float(result.config.dt) * (1.0 + 1e-3)) & ~(np.asarray(traj["wetted_area"])[:-1] > 0)
+    n = np.where(jump & (h > spacing), np.minimum(32, np.ceil(h / spacing)), 1).astype(int)   # points per step
     k = np.repeat(np.arange(len(h)), n)                                                # their step
     j = np.arange(len(k)) - np.repeat(np.cumsum(n) - n, n) + 1                          # 1 .. n within it
     tau = h[k] * j / n[k]
@@ -148,12 +153,19 @@ def _in_contact(result, times=None):
     """(N,) bool: each of ``times`` [s] (default: the trajectory's steps) lies within a logged contact,
     from its start to its end (to the end of the run for a contact still going on) — the contacts the
     bounce count numbers, so a hop inside a contact that clears the water by less than
-    ``bounce_clearance`` stays part of it."""
-    times = np.asarray(result.trajectory["time"] if times is None else times)
+    ``bounce_clearance`` stays part of it. Contacts beyond the log (``SimConfig.max_contacts``) are
+    taken from the steps themselves: after the last logged contact, a time is in contact when the
+    step it falls in had a wet triangle."""
+    t = np.asarray(result.trajectory["time"])
+    times = t if times is None else np.asarray(times)
     wet = np.zeros(times.shape, bool)
     for c in result.contacts:
         end = c.t_end if c.t_end is not None and np.isfinite(c.t_end) else np.inf
         wet |= (times >= c.t_start) & (times <= end)
+    if result.n_contacts > len(result.contacts):
+        last = result.contacts[-1].t_end if result.contacts else -np.inf
+        step = np.clip(np.searchsorted(t, times, side="right") - 1, 0, len(t) - 1)
+        wet |= (times > last) & (np.asarray(result.trajectory["wetted_area"])[step] > 0)
     return wet
 
 
@@ -289,9 +301,8 @@ def animate_throw(result, stone, path, *, fps: int = 20):
     frames = field["frames"]
     depth = field["depth"]
     lim = _elevation_limit(frames, depth)
-    pos = np.asarray(result.trajectory["position"])
-    times = np.asarray(result.trajectory["time"])
-    wet = _in_contact(result)
+    times, pos = _arc_path(result)                     # the side view's path, as plot_throw draws it
+    wet = _in_contact(result, times)
     heading = float(result.throw.heading)
     down = _throw_frame(pos, heading)[0]
     fig, (top, side) = plt.subplots(1, 2, figsize=(11, 4.2), width_ratios=[1, 1.3], layout="constrained")

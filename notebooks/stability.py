@@ -191,8 +191,7 @@ fig, axes = plt.subplots(2, 3, figsize=(16, 8.5))
 ax = axes.ravel()
 for (speed, integrator), g in gain.items():
     off = ~(g <= CAP)   # above the cap, or non-finite
-    line, = ax[0].semilogx(dts, np.minimum(g, CAP), "o-", markevery=list(np.flatnonzero(~off)),
-                           label=f"{speed:g} m/s, {integrator}")
+    line, = ax[0].semilogx(dts, np.where(off, np.nan, g), "o-", label=f"{speed:g} m/s, {integrator}")
     if off.any():
         ax[0].semilogx(dts[off], np.full(off.sum(), CAP), "^", color=line.get_color(), ms=9)
 if any((~(g <= CAP)).any() for g in gain.values()):

@@ -597,6 +597,12 @@ def merge(folders, out_dir) -> dict:
     return result
 
 
+def bracket_digits(resolution: float) -> int:
+    """Decimals [-] that show a bisection bracket of ``resolution`` [m/s] as two different numbers
+    (at least 2): the true U_min lies in ``(U - resolution, U]``."""
+    return max(2, 1 - math.floor(math.log10(resolution))) if resolution > 0 else 2
+
+
 def _umin_panel(ax, result: dict) -> None:
     """U_min(tilt): each bisection's bracket (U - resolution, U] as an error bar below its top U."""
     spec = result["spec"]
@@ -625,7 +631,8 @@ def _umin_panel(ax, result: dict) -> None:
                 label=f"no bounce up to {high:g} m/s (the bracket's top)")
     if result.get("best_tilt") is not None:
         u0 = result["best_umin"]
-        where = (f"U_min ≤ {u0:.2f} m/s" if u0 <= low else f"U_min in ({u0 - res:.2f}, {u0:.2f}] m/s")
+        d = bracket_digits(res)
+        where = (f"U_min ≤ {u0:.2f} m/s" if u0 <= low else f"U_min in ({u0 - res:.{d}f}, {u0:.{d}f}] m/s")
         ax.axvline(result["best_tilt"], color="C3", lw=0.8, ls="--",
                    label=f"lowest grid point: {result['best_tilt']:g}°, {where}")
     if result.get("best_tilt_fit") is not None:

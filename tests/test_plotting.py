@@ -136,7 +136,7 @@ def test_frame_durations_follow_simulated_time():
     assert min(_frame_durations([0.0, 1e-6, 1.0], fps=50)) == 20
 
 
-def test_the_water_pictures_share_a_percentile_colour_scale():
+def test_the_colour_scale_is_a_percentile_not_a_spike():
     depth = 0.02
     calm = np.full((32, 32), depth) + 1e-3 * np.sin(np.arange(1024).reshape(32, 32))
     spike = calm.copy()
@@ -144,5 +144,49 @@ def test_the_water_pictures_share_a_percentile_colour_scale():
     frames = [(0.0, (0, 0), calm, None, None), (0.1, (0, 0), spike, None, None)]
     lim = _elevation_limit(frames, depth)
     assert lim == pytest.approx(np.percentile(np.abs(np.stack([calm, spike]) - depth), 99.5) * 1e3)
-    assert lim < 10.0 < 100.0                             # the spike does not set the scale
+    assert 0.9 < lim <= 1.0                               # the ripples' 1 mm, not the spike's 100 mm
     assert math.isfinite(_elevation_limit([(0.0, (0, 0), np.full((4, 4), depth), None, None)], depth))
+
+
+def test_contacts_beyond_the_log_are_still_drawn_in_contact():
+    """With max_contacts=5 the default throw logs 5 of its contacts; the rest of its wet steps are
+    still drawn in contact (they were drawn as flight)."""
+    r = simulate(Throw.from_degrees(), stone="paper", config=SimConfig(max_contacts=5))
+    assert len(r.contacts) == 5 < r.n_contacts
+    wet_steps = np.asarray(r.trajectory["wetted_area"]) > 0
+    drawn = _in_contact(r)
+    assert np.all(drawn[wet_steps])                        # every wet step is drawn in contact
+    after = np.asarray(r.trajectory["time"]) > r.contacts[-1].t_end
+    assert np.array_equal(drawn[after], wet_steps[after])
+    fig = plot_throw(r)
+    labels = fig.axes[0].get_legend_handles_labels()[1]
+    assert any(f"the first 5 of {r.n_contacts} logged" in label for label in labels)
+    import matplotlib.pyplot as plt
+    plt.close(fig)
+
+
+def test_steps_of_dt_are_not_filled_in_as_flights():
+    """A coarse dt (2 ms, with flights stepped at dt): no step is a jump, so the drawn path is the
+    recorded steps, not parabolas through the contacts."""
+    import warnings
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")                   # the accuracy warning for dt > 1 ms
+        r = simulate(Throw.from_degrees(), stone="paper", config=SimConfig(dt=2e-3, flight="step"))
+    times, path = _arc_path(r)
+    np.testing.assert_array_equal(times, np.asarray(r.trajectory["time"], dtype=np.float64))
+    np.testing.assert_array_equal(path, np.asarray(r.trajectory["position"], dtype=np.float64))
+
+
+def test_the_side_view_draws_into_subfigures():
+    import matplotlib.pyplot as plt
+
+    r = simulate(Throw.from_degrees(), stone="paper", config=SimConfig(max_contacts=5))
+    fig = plt.figure(figsize=(12, 4))
+    left, right = fig.subfigures(1, 2)
+    plot_throw(r, ax=tuple(left.subplots(2, 1)))
+    plot_throw(r, ax=tuple(right.subplots(2, 1)))
+    side = left.axes[0]
+    assert "\n" in side.get_title()                       # a 6-inch-wide figure's half: the title wraps
+    fig.canvas.draw()
+    plt.close(fig)

@@ -269,6 +269,13 @@ def test_umin_best_tilt_states_its_bracket():
     assert "spin 65 rev/s" in ax.get_title() and "attack β = 20°" in ax.get_title()
 
 
+def test_a_fine_bracket_is_shown_with_the_digits_the_command_prints():
+    """A bracket of 0.0073 m/s (10 bisection steps over 7.5 m/s) is shown with four decimals, as
+    `jaxskip sweep umin` prints it ("(1.7598, 1.7671] m/s"); with two it read (1.76, 1.77]."""
+    ax = _sweep_figure(umin_result([2.5, 1.767, 1.9], [0, 0, 0], res=0.0073)).axes[0]
+    assert any("U_min in (1.7597, 1.7670] m/s" in t for t in legend_texts(ax)), legend_texts(ax)
+
+
 def test_domain_colour_bar_counts_in_integers():
     fig = _sweep_figure(domain_result())
     ax, cbar = fig.axes
