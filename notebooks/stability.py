@@ -189,11 +189,11 @@ def few_points_note(a, n):
 CAP = 3.0  # panel (1): speed ratios above this (or non-finite) are drawn at the cap as upward triangles
 fig, axes = plt.subplots(2, 3, figsize=(16, 8.5))
 ax = axes.ravel()
-for (speed, integrator), g in gain.items():
+for k, ((speed, integrator), g) in enumerate(gain.items()):
     off = ~(g <= CAP)   # above the cap, or non-finite
     line, = ax[0].semilogx(dts, np.where(off, np.nan, g), "o-", label=f"{speed:g} m/s, {integrator}")
-    if off.any():
-        ax[0].semilogx(dts[off], np.full(off.sum(), CAP), "^", color=line.get_color(), ms=9)
+    if off.any():   # (series off scale at the same dt side by side, 4 % apart, not on top of each other)
+        ax[0].semilogx(dts[off] * 1.04 ** (k - 1.5), np.full(off.sum(), CAP), "^", color=line.get_color(), ms=8)
 if any((~(g <= CAP)).any() for g in gain.values()):
     ax[0].plot([], [], "^", color="0.4", ms=9, ls="none", label=f"≥ {CAP:g} (off scale)")
 ax[0].axhline(1.0, color="k", lw=0.8)
