@@ -107,7 +107,7 @@ def test_flights_are_drawn_along_their_parabola(held_disk):
     # the first flight's apex: the parabola's, which none of the flight's few steps lands on
     c0, c1 = r.contacts[0], r.contacts[1]
     k = int(np.searchsorted(t, c0.t_end))                 # the first step after the stone left the water
-    g = r.water.gravity
+    g = float(r.water.gravity)
     apex = x[k, 2] + v[k, 2] ** 2 / (2 * g)
     flight = (times > c0.t_end) & (times < c1.t_start)
     assert path[flight, 2].max() == pytest.approx(apex, abs=2e-5)
