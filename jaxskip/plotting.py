@@ -7,14 +7,15 @@ import math
 import numpy as np
 
 
-def _number_contacts(side, fig, xs, xlim, fontsize: float = 7.0, rows: int = 3) -> None:
+def _number_contacts(side, fig, xs, xlim, fontsize: float = 7.0, rows: int = 3, last_note: str = "") -> None:
     """Number the contacts under the water line at downrange positions ``xs`` [m].
 
     Dense contacts (a stone chattering at the end of a throw) are numbered in up to ``rows``
     staggered rows so that no two numbers overlap. When not every number fits, every 5th is
     numbered (then every 10th, 20th, ...) with the first and the last, so that a gap in the
     numbering is a rule a reader sees, not a silent omission (``rows`` >= 2: the first and the last
-    always fit)."""
+    always fit). ``last_note``: added to the last number in brackets (e.g. "sank": the contact the
+    stone ended in, which the bounce count does not count)."""
     width_pt = side.bbox.width * 72.0 / side.figure.dpi
     per_m = width_pt / (xlim[1] - xlim[0])             # points per metre along the axis
     char = 0.62 * fontsize                              # a digit's advance [pt], with a little air
@@ -24,8 +25,8 @@ def _number_contacts(side, fig, xs, xlim, fontsize: float = 7.0, rows: int = 3) 
         placed = [[] for _ in range(rows)]              # per row: (left, right, label, x) [pt, pt, str, m]
         fits = True
         for i in wanted:
-            label = str(i + 1)
-            half = 0.5 * len(label) * char + 1.0
+            label = f"{i + 1} ({last_note})" if last_note and i == n - 1 else str(i + 1)
+            half = 0.5 * len(label) * (char if label.isdigit() else 0.9 * char) + 1.0
             centre = (xs[i] - xlim[0]) * per_m
             free = [r for r in range(rows) if not placed[r] or centre - half >= placed[r][-1][1]]
             if not free:
@@ -78,7 +79,10 @@ def plot_throw(result, path=None, *, ax=None):
         side.plot(np.where(wet, x, np.nan), np.where(wet, z * 100, np.nan), color="#d1495b", lw=2.5,
                   label="in contact (numbered)" if result.n_contacts <= logged else
                   f"in contact (the first {logged} of {result.n_contacts} logged and numbered)")
-    _number_contacts(side, fig, [c.x for c in result.contacts], xlim)
+    # The contact the stone ended in (it never left the water) is numbered but not a bounce: say so.
+    ended_in = result.n_contacts == len(result.contacts) and result.bounces < result.n_contacts
+    _number_contacts(side, fig, [c.x for c in result.contacts], xlim,
+                     last_note=result.outcome.replace("_", " ") if ended_in else "")
     side.set_xlim(*xlim)
     side.set_ylabel("height [cm]")
     top_cm = max(z.max() * 100 * 1.15, 2.0)

@@ -190,3 +190,16 @@ def test_the_side_view_draws_into_subfigures():
     assert "\n" in side.get_title()                       # a 6-inch-wide figure's half: the title wraps
     fig.canvas.draw()
     plt.close(fig)
+
+
+def test_the_contact_the_stone_ended_in_is_marked(held_disk):
+    """Clanet's disk makes 7 bounces in 8 contacts and sinks in the 8th: numbered "8 (sank)", so the
+    numbers do not read as 8 bounces under a title of 7."""
+    r = held_disk
+    assert (r.bounces, r.n_contacts, r.outcome) == (7, 8, "sank")
+    fig = plot_throw(r)
+    labels = [t.get_text() for t in fig.axes[0].texts]
+    assert labels[-1] == "8 (sank)" or "8 (sank)" in labels
+    assert sum("(" in label for label in labels) == 1
+    import matplotlib.pyplot as plt
+    plt.close(fig)
