@@ -7,7 +7,7 @@ import math
 import numpy as np
 
 
-def _number_contacts(side, fig, xs, xlim, fontsize: float = 7.0, rows: int = 3, last_note: str = "") -> None:
+def _number_contacts(side, xs, xlim, fontsize: float = 7.0, rows: int = 3, last_note: str = "") -> None:
     """Number the contacts under the water line at downrange positions ``xs`` [m].
 
     Dense contacts (a stone chattering at the end of a throw) are numbered in up to ``rows``
@@ -81,7 +81,7 @@ def plot_throw(result, path=None, *, ax=None):
                   f"in contact (the first {logged} of {result.n_contacts} logged and numbered)")
     # The contact the stone ended in (it never left the water) is numbered but not a bounce: say so.
     ended_in = result.n_contacts == len(result.contacts) and result.bounces < result.n_contacts
-    _number_contacts(side, fig, [c.x for c in result.contacts], xlim,
+    _number_contacts(side, [c.x for c in result.contacts], xlim,
                      last_note=result.outcome.replace("_", " ") if ended_in else "")
     side.set_xlim(*xlim)
     side.set_ylabel("height [cm]")

@@ -730,13 +730,16 @@ def _search_figure(result: SearchResult):
     ax.set_title(f"{result.method} search: {_best_text(result)}\nat {_throw_text(result.best)}", fontsize=9)
     ax.legend(fontsize=8, loc="upper center", bbox_to_anchor=(0.5, -0.13), ncol=2, frameon=False)
     if norms:
-        _norm_panel(axes[1], norms, colours, its[-1] if polish_at is None else polish_at, unit)
+        _norm_panel(axes[1], norms, colours, its[-1] if polish_at is None else polish_at, unit,
+                    gradient_health(result)["starts"])
     return fig
 
 
-def _norm_panel(ax, norms: list, colours: list, last: int, unit: str) -> None:
+def _norm_panel(ax, norms: list, colours: list, last: int, unit: str, starts: dict) -> None:
     """Every start's raw gradient norm per iteration (log scale), :data:`EXPLODING` and :data:`VANISHING`
-    marked; ``last``: the last position of the shared iteration axis (the final evaluation, or the polish)."""
+    marked; ``last``: the last position of the shared iteration axis (the final evaluation, or the polish);
+    ``starts``: :func:`gradient_health`'s per-start counts, for the title (one definition of exploding
+    and vanishing)."""
     its = [int(h["iteration"]) for h in norms]
     g = np.array([[np.nan if v is None else v for v in h["grad_norm"]] for h in norms], dtype=float)
     shown = np.where(g > 0, g, np.nan)
@@ -760,13 +763,11 @@ def _norm_panel(ax, norms: list, colours: list, last: int, unit: str) -> None:
                    label="no gradient: final evaluation" + (" and polish" if last > max(its) + 1 else ""))
     ax.set_xlabel("iteration")
     ax.set_ylabel(f"raw gradient norm [{unit} per unconstrained unit]")
-    small = g < VANISHING
-    big = ~np.isfinite(g) | (g > EXPLODING)
-    n = g.shape[1]
+    n = starts["n"]
     ax.set_title(f"raw gradient norms (before clipping) of {n} start{'s' if n != 1 else ''}\n"
-                 f"starts whose gradient exploded at some iteration: {int(big.any(axis=0).sum())}\n"
-                 f"starts whose gradient vanished at every iteration: {int(small.all(axis=0).sum())}; "
-                 f"at some iteration: {int(small.any(axis=0).sum())}", fontsize=9)
+                 f"starts whose gradient exploded at some iteration: {starts['exploding']}\n"
+                 f"starts whose gradient vanished at every iteration: {starts['vanishing']}; "
+                 f"at some iteration: {int((g < VANISHING).any(axis=0).sum())}", fontsize=9)
     ax.legend(fontsize=8, loc="upper center", bbox_to_anchor=(0.5, -0.13), ncol=2, frameon=False)
 
 

@@ -15,7 +15,7 @@ def _numbers(xs, xlim=(-0.2, 2.2)):
     fig, side = plt.subplots(figsize=(10, 3.5))
     side.set_xlim(*xlim)
     side.set_ylim(-2.0, 3.0)
-    _number_contacts(side, fig, xs, xlim)
+    _number_contacts(side, xs, xlim)
     fig.canvas.draw()
     texts = [t for t in side.texts]
     boxes = [t.get_window_extent() for t in texts]
