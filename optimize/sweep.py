@@ -649,7 +649,8 @@ def _umin_panel(ax, result: dict) -> None:
 
 
 def _domain_panel(fig, ax, result: dict) -> None:
-    """Bounce counts on the (attack, tilt) grid, the edge of the bouncing region outlined."""
+    """Bounce counts on the (tilt, attack) grid, tilt on x as in the U_min panel and the magic-angle
+    notebook, the edge of the bouncing region outlined."""
     from matplotlib.lines import Line2D
     from matplotlib.ticker import MaxNLocator
 
@@ -659,20 +660,20 @@ def _domain_panel(fig, ax, result: dict) -> None:
     if top <= 20:  # a colour per count, each centred on its integer tick
         from matplotlib import colormaps
 
-        mesh = ax.pcolormesh(spec["attacks"], spec["tilts"], b, shading="nearest",
+        mesh = ax.pcolormesh(spec["tilts"], spec["attacks"], b.T, shading="nearest",
                              cmap=colormaps["viridis"].resampled(top + 1), vmin=-0.5, vmax=top + 0.5)
     else:
-        mesh = ax.pcolormesh(spec["attacks"], spec["tilts"], b, shading="nearest", cmap="viridis")
+        mesh = ax.pcolormesh(spec["tilts"], spec["attacks"], b.T, shading="nearest", cmap="viridis")
     cbar = fig.colorbar(mesh, ax=ax, label="true bounce count [bounces]")
     cbar.ax.yaxis.set_major_locator(MaxNLocator(integer=True))
     if min(b.shape) >= 2 and (b > 0).any() and (b == 0).any():
-        ax.contour(spec["attacks"], spec["tilts"], (b > 0).astype(float), levels=[0.5], colors="C3", linewidths=1.5)
+        ax.contour(spec["tilts"], spec["attacks"], (b.T > 0).astype(float), levels=[0.5], colors="C3", linewidths=1.5)
         edge = Line2D([], [], color="C3", lw=1.5,
                       label="edge of the bounce domain (≥ 1 bounce), halfway between grid points")
         ax.legend(handles=[edge],
                   fontsize=8, loc="upper center", bbox_to_anchor=(0.5, -0.14), frameon=False)
-    ax.set_xlabel("impact angle β [deg]")
-    ax.set_ylabel("tilt α [deg]")
+    ax.set_xlabel("tilt α [deg]")
+    ax.set_ylabel("impact angle β [deg]")
     ax.set_title(f"bounce domain at speed {spec['speed']:g} m/s, spin {spec['spin']:g} rev/s ({spec['stone']}, "
                  f"{spec['attitude']} attitude)", fontsize=10)
 

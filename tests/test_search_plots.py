@@ -285,6 +285,20 @@ def test_domain_colour_bar_counts_in_integers():
     assert "spin 65 rev/s" in ax.get_title() and "speed 3.5 m/s" in ax.get_title()
 
 
+def test_domain_has_tilt_on_x_like_the_umin_panel_and_the_notebook():
+    """`jaxskip sweep domain --plot` drew tilt on y while its U_min picture and the magic-angle notebook
+    draw it on x; now each cell sits at (tilt, attack) with its own count."""
+    from matplotlib.collections import QuadMesh
+
+    ax = _sweep_figure(domain_result()).axes[0]
+    assert ax.get_xlabel().startswith("tilt α") and ax.get_ylabel().startswith("impact angle β")
+    mesh = next(c for c in ax.collections if isinstance(c, QuadMesh))
+    counts = np.asarray(mesh.get_array()).reshape(4, 3)   # rows: attacks 0..45, columns: tilts 10..30
+    assert counts[1, 0] == 4 and counts[2, 1] == 1 and counts[1, 2] == 1
+    np.testing.assert_array_equal(counts, np.asarray(domain_result()["bounces"]).T)
+    assert ax.get_xlim()[0] < 10.0 < 30.0 < ax.get_xlim()[1] and ax.get_ylim()[0] < 0.0 < 45.0 < ax.get_ylim()[1]
+
+
 DIMENSIONLESS = {"iteration", "number of throws", "number of throws (log scale)"}
 
 
