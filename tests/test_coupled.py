@@ -47,8 +47,9 @@ def test_window_follows_the_stone(paper, water):
     state, tr, _, f = jax.jit(lambda t: rollout_coupled(config, SMALL, t, paper, water))(throw)
     centre = (np.asarray(f.offset) + np.array(SMALL.shape) // 2) * SMALL.spacing
     assert float(state.position[0]) > 0.3                 # the stone has travelled many windows' columns
-    # Re-centred at each water step (every 1 ms of stone time, or after each flight jump).
-    assert np.all(np.abs(centre - np.asarray(state.position[:2])) < 0.2)
+    # Re-centred at each water step (every 1 ms of stone time, or after each flight jump): within a column
+    # (measured 4.7 mm at 6 m/s; the window is only 0.24 m wide, so the old 0.2 m let the stone leave it).
+    assert np.all(np.abs(centre - np.asarray(state.position[:2])) < SMALL.spacing)
 
 
 def test_coupled_batch_equals_one_at_a_time(paper, water):
