@@ -121,17 +121,23 @@ def test_smooth_clamp_converges_to_reference():
 
 
 def test_stable_at_bound_unstable_beyond():
-    """The derived bound sqrt(3)/2 l/sqrt(gH) is sharp: at 0.99 of it random ripples stay bounded,
-    at 1.05 of it the checkerboard mode explodes. The grid refuses a dt beyond the bound."""
+    """The derived bound sqrt(3)/2 l/sqrt(gH) is sharp: at the bound (accepted by the grid) and at 0.99
+    of it random ripples stay bounded over 1000 steps, at 1.05 of it the checkerboard mode explodes.
+    The grid refuses a dt beyond the bound. (Measured, largest ripple / initial noise: 1.33 at 0.99,
+    2.38 at the bound, where the checkerboard mode is neutral: at most 1.65 and 2.4 over 4000 steps.)"""
     bound = stable_dt(0.01, 0.1)
     noise = 1e-6 * np.random.default_rng(0).standard_normal((24, 24))
     amp = {}
-    for factor in (0.99, 1.05):
-        grid = WaterGrid(shape=(24, 24), spacing=0.01, depth=0.1)
-        object.__setattr__(grid, "dt", factor * bound)   # bypass the guard to show what it guards
+    for factor in (0.99, 1.0, 1.05):
+        if factor <= 1.0:
+            grid = WaterGrid(shape=(24, 24), spacing=0.01, depth=0.1, dt=factor * bound)
+        else:
+            grid = WaterGrid(shape=(24, 24), spacing=0.01, depth=0.1)
+            object.__setattr__(grid, "dt", factor * bound)   # bypass the guard to show what it guards
         s = run_water(grid, still_water(grid, grid.depth + noise), 1000)
         amp[factor] = float(jnp.max(jnp.abs(s.height - grid.depth)))
-    assert amp[0.99] < 10 * np.abs(noise).max()
+    assert amp[0.99] < 2 * np.abs(noise).max(), amp
+    assert amp[1.0] < 3 * np.abs(noise).max(), amp
     assert not np.isfinite(amp[1.05]) or amp[1.05] > 1e3 * np.abs(noise).max()
     with pytest.raises(ParameterError, match="dt"):
         WaterGrid(shape=(24, 24), spacing=0.01, depth=0.1, dt=1.01 * bound)
