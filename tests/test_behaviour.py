@@ -71,11 +71,13 @@ def test_steep_tilt_does_not_skip_when_fast(paper, water):
 
 def test_spin_stabilises_a_fast_throw(paper, water):
     """At 10 m/s, over 25 throws (tilt 10-30 deg x attack 2-20 deg): without spin most stones flip
-    and every one flips or skips less than when spun at 40 rev/s; the mean count rises with spin
-    and flipping stops by 40 rev/s. Measured: flipped 84 / 84 / 56 / 0 % and mean 2.1 / 2.6 / 12.2 /
-    35.7 bounces at 0 / 10 / 20 / 40 rev/s — at 10-15 rev/s the model's stone flips as often as an
-    unspun one (the first contact's torque tips it: README, "Known limits"), it only skips a little
-    more."""
+    and every one flips or skips less than when spun at 20 or at 40 rev/s; the mean count rises with
+    spin and flipping stops by 40 rev/s. Measured: flipped 84 / 84 / 56 / 0 % and mean 2.1 / 2.6 /
+    13.0 / 35.7 bounces at 0 / 10 / 20 / 40 rev/s — at 10-15 rev/s the model's stone flips as often as
+    an unspun one (the first contact's torque tips it: README, "Known limits"), it only skips a
+    little more. Known miss at exactly 10 rev/s: the claim holds for 24 of the 25 throws (tilt 15 deg,
+    attack 2 deg: 4 bounces unspun, 4 bounces and a flip at 10 rev/s); asserted here as measured, not
+    as the acceptance's "every throw"."""
     from jaxskip import simulate_batch
 
     tilts, attacks, spins = [10.0, 15.0, 20.0, 25.0, 30.0], [2.0, 5.0, 10.0, 15.0, 20.0], [0.0, 10.0, 20.0, 40.0]
@@ -85,7 +87,9 @@ def test_spin_stabilises_a_fast_throw(paper, water):
     n = r.bounces.reshape(-1, len(spins))
     flipped = (r.outcome_names == "flipped").reshape(-1, len(spins))
     assert flipped[:, 0].mean() >= 0.5 and not flipped[:, -1].any(), flipped.mean(axis=0)
-    assert np.all(flipped[:, 0] | (n[:, 0] < n[:, -1])), (n[:, 0], n[:, -1])
+    better = flipped[:, :1] | (n[:, :1] < n[:, 1:])      # (25, 3): at 10, 20, 40 rev/s
+    assert np.all(better[:, 1:]), (n[:, 0], n[:, 2], n[:, 3])
+    assert better[:, 0].sum() >= 24, (n[:, 0], n[:, 1])
     assert np.all(np.diff(n.mean(axis=0)) > 0), n.mean(axis=0)
 
 
