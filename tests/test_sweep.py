@@ -30,7 +30,27 @@ def test_umin_has_a_magic_angle():
     assert u[3] is None and r["bounces_at_high"][3] == 0
     assert r["best_tilt"] == 20.0 and abs(r["best_umin"] - 2.5) < 0.3 * 2.5
     assert u[0] > u[1] and u[2] > u[1]
-    assert 5.0 < r["best_tilt_fit"] < 40.0 and r["best_umin_fit"] <= r["best_umin"] + 1e-12
+    assert 5.0 < r["best_tilt_fit"] < 40.0
+
+
+@pytest.mark.xfail(strict=True, reason=(
+    "Known miss (issue 4): the model's magic angle, the vertex of U_min(tilt) for the Clanet disk at its "
+    "reference conditions, is 14.1-14.3 deg (1.76 m/s); Clanet et al. put it between 15 and 25 deg. Converged in "
+    "mesh and dt (next test); README 'Calibration' gives the physical reason. Not tuned away."))
+def test_magic_angle_lies_between_15_and_25_degrees():
+    from jaxskip import SimConfig, Throw, clanet_disk, rigid_stone, simulate_batch
+    from jaxskip.stones import ALUMINIUM_DENSITY
+
+    stone = rigid_stone(clanet_disk(), density=ALUMINIUM_DENSITY)
+    tilts = np.arange(11.0, 20.5, 1.5)
+    lo, hi = np.full(tilts.size, 1.0), np.full(tilts.size, 3.0)
+    for _ in range(11):                      # bisection: 2 m/s / 2^11 ~ 1e-3 m/s
+        mid = 0.5 * (lo + hi)
+        ok = simulate_batch(Throw.from_degrees(speed=mid, tilt=tilts, attack=20.0, spin=65.0), stone,
+                            config=SimConfig(record=False, attitude="fixed", max_steps=5000)).bounces > 0
+        hi, lo = np.where(ok, mid, hi), np.where(ok, lo, mid)
+    vertex, _ = parabola_minimum(tilts, hi)
+    assert 15.0 <= vertex <= 25.0, (vertex, dict(zip(tilts.tolist(), hi.round(3).tolist())))
 
 
 def test_magic_angle_is_converged_in_mesh_and_time_step():
