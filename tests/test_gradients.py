@@ -44,11 +44,15 @@ def test_free_body_gradients_through_contacts(paper, water, sharpness, steps):
 
 
 def test_fixed_attitude_gradient_of_a_whole_throw(paper, water):
-    """Eight contacts to the stone's end (the high-spin limit is not chaotic)."""
-    config = SimConfig(record=False, max_steps=800, duration=100.0, attitude="fixed")
+    """Nine contacts to the stone's end (it sinks 1.5 s after release, 5.65 m out): the high-spin limit
+    is not chaotic, so the whole throw's derivative matches finite differences. (Spin's is zero: the
+    attitude is held.)"""
+    from jaxskip.simulate import OUTCOMES
+
+    config = SimConfig(record=False, max_steps=4000, duration=100.0, attitude="fixed")
     base = Throw.from_degrees(speed=8.0, tilt=20.0, attack=10.0, spin=20.0)
     s, tr, _ = jax.jit(lambda t: rollout(config, t, paper, water))(base)
-    assert int(tr.contacts) >= 5
+    assert int(tr.contacts) >= 8 and OUTCOMES[int(tr.outcome)] == "sank", (int(tr.contacts), int(tr.outcome))
     fd_check(lambda t: rollout(config, t, paper, water)[0].position[0], base, rtol=1e-5)
 
 
