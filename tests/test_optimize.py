@@ -34,7 +34,7 @@ def test_surrogate_gradient_matches_finite_differences(paper, water):
         fd = (float(f(up)) - float(f(dn))) / (2 * h)
         g = float(getattr(grad, name))
         assert math.isfinite(g)
-        np.testing.assert_allclose(g, fd, rtol=1e-3, atol=1e-6, err_msg=name)
+        np.testing.assert_allclose(g, fd, rtol=2e-4, atol=1e-6, err_msg=name)  # worst measured: 6.7e-5
 
 
 @pytest.mark.parametrize("steps, n", [(400, 200), (None, 32)])
