@@ -94,6 +94,25 @@ def test_gradient_finite_when_starting_exactly_on_the_water(paper, water):
     assert all(np.isfinite(float(getattr(g, f))) for f in FIELDS + ("height",))
 
 
+def test_rollout_gradient_finite_at_zero_speed_and_zero_immersion(paper, water):
+    """A whole rollout from rest, its lowest vertex exactly on the water (|v| = 0 and zero immersion at
+    once; a throw the API refuses, but a traced rollout must not): the stone settles and stops, and the
+    derivatives of where it ends and of its final speed are finite (no 0/0 from a norm at rest)."""
+    from jaxskip.simulate import OUTCOMES
+
+    config = SimConfig(record=False, max_steps=200, duration=100.0)
+    base = dataclasses.replace(Throw.from_degrees(height=0.0, spin=0.0), speed=jnp.asarray(0.0))
+
+    def end(t):
+        s = rollout(config, t, paper, water)[0]
+        return s.position[0] + s.position[2] + jnp.sqrt(jnp.sum(s.velocity ** 2) + 1e-30)
+
+    g = jax.jit(jax.grad(end))(base)
+    assert all(np.isfinite(float(getattr(g, f))) for f in FIELDS + ("height",)), g
+    s, tr, _ = jax.jit(lambda t: rollout(config, t, paper, water))(base)
+    assert int(tr.contacts) == 1 and OUTCOMES[int(tr.outcome)] == "stopped"   # it touched the water at rest
+
+
 @pytest.mark.parametrize("law", ["bocquet", "seed"])
 @pytest.mark.parametrize("normalize_lift", [True, False])
 def test_water_force_gradient_finite_at_zero_speed(paper, water, law, normalize_lift):
