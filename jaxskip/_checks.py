@@ -17,8 +17,17 @@ class ParameterError(ValueError):
 
 
 def _as_float(name: str, value, valid: str = "") -> float:
-    """``value`` as a finite float; ``valid`` (e.g. "in [0, 1] s") completes the messages."""
-    if isinstance(value, bool) or not isinstance(value, numbers.Real):
+    """``value`` as a finite float; ``valid`` (e.g. "in [0, 1] s") completes the messages.
+
+    Refused: strings (``"0.02"``: ``float()`` would read them, and a config would then hold a
+    string), bools (``True`` is not 1 s), complex numbers and anything ``float()`` cannot read;
+    accepted: Python and NumPy real numbers, 0-d arrays and concrete JAX scalars.
+    """
+    import numpy as np
+
+    if isinstance(value, (str, bytes, bool, np.bool_)) or getattr(getattr(value, "dtype", None), "kind", "f") in "bcSUOmM":
+        raise ParameterError(f"{name} must be a real number{(' ' + valid) if valid else ''}, got {value!r}")
+    if not isinstance(value, numbers.Real):
         try:
             value = float(value)  # numpy scalars, 0-d arrays
         except (TypeError, ValueError):

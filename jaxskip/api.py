@@ -171,14 +171,17 @@ def _rigid_from_mesh(mesh, default_density, *, mass, density):
 def resolve_stone(stone, *, mass=None, density=None) -> tuple[RigidStone, str]:
     """Turn a built-in name, an ``.obj`` path, a :class:`TriMesh` or a :class:`RigidStone` into a rigid stone.
 
-    ``mass`` [kg] or ``density`` [kg/m^3] override the stone's default density.
+    ``mass`` [kg] or ``density`` [kg/m^3] (in [100, 25000] kg/m^3, or a mass giving such a density)
+    override the stone's default density; a ready :class:`RigidStone` is checked
+    (:meth:`RigidStone.check`) and taken as it is. Returns ``(RigidStone, name)`` (``"custom"`` for a
+    ready stone).
     """
     if mass is not None and density is not None:
         raise ParameterError("give mass or density, not both")
     if isinstance(stone, RigidStone):
         if mass is not None or density is not None:
             raise ParameterError("mass/density cannot be changed on a ready RigidStone")
-        return stone, "custom"
+        return stone.check(), "custom"
     if isinstance(stone, str) and stone in BUILTIN_STONES:
         # validated (and made hashable floats) before the cache sees them
         mass = None if mass is None else check_positive("mass", mass, unit="kg")

@@ -46,6 +46,64 @@ class RigidStone:
         """Number of triangles F of the mesh (``triangles`` is (F, 3, 3))."""
         return self.triangles.shape[-3]
 
+    def check(self) -> "RigidStone":
+        """Raise :class:`jaxskip.ParameterError` unless this is a usable single stone; return it.
+
+        :func:`rigid_stone` builds valid stones; this guards one built or changed by hand
+        (``dataclasses.replace(stone, mass=...)``), which the simulator would otherwise run into
+        NaN distances or a "sank" with a negative mass. Checked on concrete values (a traced stone
+        passes through): the shapes above with one F; every number finite; ``mass`` > 0 with the
+        density it implies through the mesh's volume in :data:`DENSITY_RANGE`; ``areas`` > 0;
+        unit ``normals``; ``inertia`` symmetric positive definite with ``inv_inertia`` its
+        inverse; ``radius`` in :data:`RADIUS_RANGE` and at least the vertices' reach.
+        (The mass distribution may differ from the mesh's uniform one: a weighted stone is allowed.)
+        """
+        leaves = {f.name: getattr(self, f.name) for f in dataclasses.fields(self)}
+        if any(isinstance(v, jax.core.Tracer) for v in leaves.values()):
+            return self
+        a = {k: np.asarray(v, dtype=np.float64) for k, v in leaves.items()}
+        tri = a["triangles"].shape
+        if len(tri) != 3 or tri[1:] != (3, 3) or tri[0] < 1:
+            raise ParameterError(f"stone.triangles must have shape (F, 3, 3) with F >= 1 (one stone, not a batch), "
+                                 f"got {tri}")
+        n = tri[0]
+        shapes = {"normals": (n, 3), "areas": (n,), "mass": (), "inertia": (3, 3),
+                  "inv_inertia": (3, 3), "radius": (), "thickness": ()}
+        for k, want in shapes.items():
+            if a[k].shape != want:
+                raise ParameterError(f"stone.{k} must have shape {want} (F = {n} triangles; one stone, "
+                                     f"not a batch), got {a[k].shape}")
+        for k, v in a.items():
+            if not np.all(np.isfinite(v)):
+                raise ParameterError(f"stone.{k} must be finite, got {float(v[~np.isfinite(v)].flat[0])!r}")
+        m = float(a["mass"])
+        if m <= 0.0:
+            raise ParameterError(f"stone.mass must be > 0 kg, got {m!r}")
+        if np.any(a["areas"] <= 0.0):
+            raise ParameterError(f"stone.areas must be > 0 m^2 (no degenerate triangle), got {a['areas'].min()!r}")
+        if np.max(np.abs(np.linalg.norm(a["normals"], axis=1) - 1.0)) > 1e-4:
+            raise ParameterError("stone.normals must be unit vectors")
+        # Divergence theorem: V = sum_i A_i (n_i . c_i) / 3 over the closed mesh.
+        volume = float(np.sum(a["areas"] * np.sum(a["normals"] * a["triangles"].mean(axis=1), axis=1)) / 3.0)
+        lo, hi = DENSITY_RANGE
+        if not volume > 0.0 or not lo <= m / volume <= hi:
+            density = m / volume if volume > 0.0 else float("nan")
+            raise ParameterError(f"stone.mass must give a density in [{lo:g}, {hi:g}] kg/m^3 (cork to osmium) over "
+                                 f"the mesh's {volume * 1e6:.3g} cm^3, got {m!r} kg ({density:.3g} kg/m^3)")
+        inertia = a["inertia"]
+        scale = float(np.max(np.abs(inertia)))
+        if not scale > 0.0 or np.max(np.abs(inertia - inertia.T)) > 1e-6 * scale or \
+                np.min(np.linalg.eigvalsh(0.5 * (inertia + inertia.T))) <= 0.0:
+            raise ParameterError("stone.inertia must be a symmetric positive definite (3, 3) tensor [kg m^2]")
+        if np.max(np.abs(a["inv_inertia"] @ inertia - np.eye(3))) > 1e-4:
+            raise ParameterError("stone.inv_inertia must be the inverse of stone.inertia")
+        r = float(a["radius"])
+        reach = float(np.max(np.linalg.norm(a["triangles"], axis=-1)))
+        if not RADIUS_RANGE[0] <= r <= RADIUS_RANGE[1] or r < reach * (1.0 - 1e-5):
+            raise ParameterError(f"stone.radius must be in [{RADIUS_RANGE[0] * 1e3:g} mm, {RADIUS_RANGE[1]:g} m] and "
+                                 f"at least the vertices' reach {reach:.4g} m, got {r!r}")
+        return self
+
 
 def principal_axes(inertia: np.ndarray) -> np.ndarray:
     """Rotation (3, 3) whose columns are the principal axes, moments ascending, det +1.

@@ -14,6 +14,7 @@ import dataclasses
 import json
 import math
 import os
+import re
 import sys
 import warnings
 
@@ -27,13 +28,22 @@ from .settings import SIM_DEFAULTS, describe, environment, simulation  # noqa: F
 EXIT_USAGE = 2
 PICTURES = (".png", ".pdf", ".svg")
 
+# A negative number in any notation Python's float() reads, e-notation included: argparse's own
+# pattern (r'^-\d+$|^-\d*\.\d+$') takes "--tilt -1e1" for a flag and fails with "expected one argument".
+_NEGATIVE_NUMBER = re.compile(r"^-(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?$")
+
+
 class _Parser(argparse.ArgumentParser):
-    def error(self, message):  # argparse's own errors: same style, exit 2
+    def __init__(self, *args, **kwargs):
+        super().__init__(*args, **kwargs)
+        self._negative_number_matcher = _NEGATIVE_NUMBER   # (argparse reads this attribute; no flag looks like one)
+
+    def error(self, message):  # argparse's own errors: same style, one line, exit 2
         if "required: command" in message:  # bare `jaxskip`: show what there is to do
             self.print_help(sys.stderr)
+            print(f"jaxskip: error: {message}", file=sys.stderr)
         else:
-            self.print_usage(sys.stderr)
-        print(f"jaxskip: error: {message}", file=sys.stderr)
+            print(f"jaxskip: error: {message} (see '{self.prog} --help')", file=sys.stderr)
         raise SystemExit(EXIT_USAGE)
 
 

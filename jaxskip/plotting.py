@@ -290,6 +290,9 @@ def animate_throw(result, stone, path, *, fps: int = 20):
     crossed in a few long steps), so each frame is shown for a time proportional to the simulated
     time it covers: the animation is the throw in uniform slow motion, ``fps`` frames a second on
     average (each frame shown 20 ms to 2 s).
+
+    ``stone``: the :class:`jaxskip.RigidStone` that was thrown (its triangles draw the footprint).
+    ``fps``: frames per second of the animation on average, in (0, 100]. Returns ``path``.
     """
     import matplotlib
 
@@ -297,10 +300,11 @@ def animate_throw(result, stone, path, *, fps: int = 20):
     import matplotlib.pyplot as plt
     from PIL import Image
 
-    from ._checks import ParameterError
+    from ._checks import ParameterError, check_range
 
     if not str(path).lower().endswith(".gif"):
         raise ParameterError(f"the animation path must end in .gif, got {path!r}")
+    fps = check_range("fps", fps, 0.0, 100.0, unit="frames/s", low_open=True)
     field = _check_field(result)
     frames = field["frames"]
     depth = field["depth"]

@@ -147,7 +147,8 @@ class SimConfig:
         check_int("checkpoint", self.checkpoint, minimum=0, maximum=1)
         check_bool("record", self.record)
         if not isinstance(self.force, ForceModel):
-            raise TypeError("force must be a jaxskip.forces.ForceModel")
+            raise ParameterError(f"force must be a jaxskip.ForceModel (e.g. ForceModel(law='bocquet')), "
+                                 f"got {self.force!r}")
 
 
 #: Longest contact step [s] whose answers this project has validated. Measured over 128 random

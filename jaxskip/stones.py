@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import functools
 import math
+import numbers
 import os
 from pathlib import Path
 
@@ -258,7 +259,7 @@ def irregular_pebble(seed: int = 0, radius: float = 0.04, thickness: float = 0.0
     Parameters
     ----------
     seed : int
-        Random seed; the same seed always gives the same pebble.
+        Random seed, an integer >= 0; the same seed always gives the same pebble.
     radius : float
         Unperturbed equatorial semi-axis [m], > 0.
     thickness : float
@@ -276,9 +277,11 @@ def irregular_pebble(seed: int = 0, radius: float = 0.04, thickness: float = 0.0
     """
     if not (isinstance(roughness, (int, float, np.floating)) and 0.0 <= roughness < 1.0):
         raise MeshError(f"roughness must lie in [0, 1), got {roughness!r}")
+    if isinstance(seed, (bool, np.bool_)) or not isinstance(seed, numbers.Integral) or seed < 0:
+        raise MeshError(f"seed must be an integer >= 0, got {seed!r}")
     radius = _positive_scalar(radius, "radius [m]")
     half = 0.5 * _positive_scalar(thickness, "thickness [m]")
-    rng = np.random.default_rng(seed)
+    rng = np.random.default_rng(int(seed))
     ab = rng.normal(size=(3, 2))
     ck = rng.normal(size=2)
     norm = np.abs(ab).sum() + np.abs(ck).sum()

@@ -134,15 +134,15 @@ class WaterGrid:
     shape: tuple[int, int] = (128, 128)
     """Columns ``(nx, ny)``, each at least 3, at most 4096² in all (integers; NumPy's too)."""
     spacing: float = 0.01
-    """Column side :math:`l` [m] (also the axis pipe length)."""
+    """Column side :math:`l` [m] (also the axis pipe length), > 0."""
     depth: float = 0.1
-    """Rest depth :math:`H` [m]: waves travel at :math:`\\sqrt{gH}`."""
+    """Rest depth :math:`H` [m], > 0: waves travel at :math:`\\sqrt{gH}`."""
     origin: tuple[float, float] = (0.0, 0.0)
     """Centre ``(x, y)`` [m] of column ``(0, 0)``."""
     gravity: float = 9.81
-    """Gravitational acceleration g [m/s²]."""
+    """Gravitational acceleration g [m/s²], > 0."""
     rho: float = 1000.0
-    """Water density ρ [kg/m³] (converts external pressure to head)."""
+    """Water density ρ [kg/m³], > 0 (converts external pressure to head)."""
     dt: float | None = None
     """Water time step [s], in (0, :func:`stable_dt`]; ``None``: ``cfl`` times :func:`stable_dt`."""
     cfl: float = 0.5
@@ -175,17 +175,19 @@ class WaterGrid:
         if shape[0] * shape[1] > MAX_COLUMNS:
             raise ParameterError(f"shape {shape} has {shape[0] * shape[1]} columns; at most {MAX_COLUMNS} "
                                  f"(4096 x 4096) are allowed: use a window that follows the stone")
-        check_positive("spacing", self.spacing, unit="m")
-        check_positive("depth", self.depth, unit="m")
+        # Every number is stored as the plain float it was checked as (a NumPy or JAX scalar would
+        # otherwise ride along into the hash and the compiled steps).
+        put = lambda name, v: object.__setattr__(self, name, v)  # noqa: E731
+        put("spacing", check_positive("spacing", self.spacing, unit="m"))
+        put("depth", check_positive("depth", self.depth, unit="m"))
         if not (isinstance(self.origin, tuple) and len(self.origin) == 2):
             raise ParameterError(f"origin must be a tuple (x, y) in m, got {self.origin!r}")
-        for name, v in zip(("origin[0]", "origin[1]"), self.origin):
-            check_real(name, v, unit="m")
-        check_positive("gravity", self.gravity, unit="m/s^2")
-        check_positive("rho", self.rho, unit="kg/m^3")
-        check_range("cfl", self.cfl, 0.0, 1.0, low_open=True)
+        put("origin", tuple(check_real(name, v, unit="m") for name, v in zip(("origin[0]", "origin[1]"), self.origin)))
+        put("gravity", check_positive("gravity", self.gravity, unit="m/s^2"))
+        put("rho", check_positive("rho", self.rho, unit="kg/m^3"))
+        put("cfl", check_range("cfl", self.cfl, 0.0, 1.0, low_open=True))
         if self.dt is not None:
-            check_positive("dt", self.dt, unit="s")
+            put("dt", check_positive("dt", self.dt, unit="s"))
             bound = stable_dt(self.spacing, self.depth, self.gravity)
             if self.dt > bound:
                 raise ParameterError(
@@ -193,12 +195,12 @@ class WaterGrid:
                     f"(the pipe scheme's bound sqrt(3)/2 * spacing / sqrt(g * depth)), got {self.dt}; "
                     f"use a smaller dt, or substeps via water_substeps()")
         check_choice("clamp", self.clamp, CLAMPS)
-        check_range("sharpness", self.sharpness, 1.0, 1e6)
-        check_int("clamp_iterations", self.clamp_iterations, minimum=0, maximum=100)
-        check_range("damping", self.damping, 0.0, 1e6)
+        put("sharpness", check_range("sharpness", self.sharpness, 1.0, 1e6))
+        put("clamp_iterations", check_int("clamp_iterations", self.clamp_iterations, minimum=0, maximum=100))
+        put("damping", check_range("damping", self.damping, 0.0, 1e6))
         check_choice("boundary", self.boundary, BOUNDARIES)
-        check_int("sponge_width", self.sponge_width, minimum=1, maximum=10_000)
-        check_positive("sponge_rate", self.sponge_rate, unit="1/s")
+        put("sponge_width", check_int("sponge_width", self.sponge_width, minimum=1, maximum=10_000))
+        put("sponge_rate", check_positive("sponge_rate", self.sponge_rate, unit="1/s"))
         if self.boundary == "sponge" and self.sponge_width > min(shape) // 2:
             raise ParameterError(f"sponge_width must be at most half the smaller grid side "
                                  f"({min(shape) // 2} columns for shape {shape}), got {self.sponge_width}")
@@ -236,8 +238,17 @@ def stable_dt(spacing: float, depth: float, gravity: float = 9.81) -> float:
     return math.sqrt(3.0) / 2.0 * spacing / math.sqrt(gravity * depth)
 
 
+def _check_grid(grid) -> WaterGrid:
+    """``grid`` must be a :class:`WaterGrid` (a clear error instead of an AttributeError deep inside)."""
+    if not isinstance(grid, WaterGrid):
+        raise ParameterError(f"grid must be a jaxskip.WaterGrid (e.g. WaterGrid(shape=(128, 128), spacing=0.01)), "
+                             f"got {type(grid).__name__}")
+    return grid
+
+
 def water_substeps(grid: WaterGrid, dt: float) -> int:
     """Water steps per stone step of ``dt`` [s] so each water step is within the bound."""
+    _check_grid(grid)
     check_positive("dt", dt, unit="s")
     return max(1, math.ceil(dt / grid.time_step - 1e-12))
 
@@ -264,7 +275,19 @@ class WaterState:
 
 def still_water(grid: WaterGrid, height=None, dtype=None) -> WaterState:
     """Water at rest: all flows zero; heights ``depth`` (or the given ``(nx, ny)`` array of column heights
-    [m], finite and >= 0)."""
+    [m], finite and >= 0).
+
+    ``dtype``: a floating-point dtype for every array of the state (``jnp.float32``, ``"float64"``, ...);
+    default: JAX's default float (float32, or float64 with ``jax_enable_x64``), or ``height``'s own.
+    """
+    _check_grid(grid)
+    if dtype is not None:
+        try:
+            floating = jnp.issubdtype(jnp.dtype(dtype), jnp.floating)
+        except TypeError:
+            floating = False
+        if not floating:
+            raise ParameterError(f"dtype must be a floating-point dtype (e.g. jnp.float32 or jnp.float64), got {dtype!r}")
     nx, ny = grid.shape
     if height is None:
         height = jnp.full(grid.shape, grid.depth, dtype=dtype or jnp.result_type(float))
@@ -497,6 +520,7 @@ def make_water_step(grid: WaterGrid, clamp_blocks: tuple = ()):
     >>> bool(s1.height[8, 8] < grid.depth)    # pushed down under the pressure
     True
     """
+    _check_grid(grid)
     l = grid.spacing
     H = grid.depth
     g = grid.gravity
@@ -591,7 +615,10 @@ def _water_runner(grid: WaterGrid, steps: int):
 
 
 def run_water(grid: WaterGrid, state: WaterState, steps: int, pressure=None):
-    """Advance ``steps`` water steps under a constant ``pressure`` [Pa] (default none), jitted scan."""
+    """Advance ``steps`` (an integer in [0, 10^8]) water steps of ``grid.time_step`` under a constant
+    ``pressure`` [Pa] per column, shape ``(nx, ny)`` (default none), in a jitted scan; returns the new
+    :class:`WaterState` (its ``time`` advanced by ``steps * grid.time_step`` [s])."""
+    _check_grid(grid)
     check_int("steps", steps, minimum=0, maximum=100_000_000)
     if not isinstance(state, WaterState):
         raise ParameterError(f"state must be a jaxskip.WaterState (see still_water), got {type(state).__name__}")
@@ -608,7 +635,8 @@ def run_water(grid: WaterGrid, state: WaterState, steps: int, pressure=None):
 
 
 def total_volume(grid: WaterGrid, state: WaterState):
-    """Total water volume [m³] (sum of column heights times the column area)."""
+    """Total water volume [m³] (sum of column heights times the column area), a scalar."""
+    _check_grid(grid)
     return jnp.sum(state.height) * grid.spacing ** 2
 
 

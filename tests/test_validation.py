@@ -351,3 +351,96 @@ def test_progress_must_be_a_bool_in_searches_and_sweeps(tmp_path):
         with pytest.raises(ParameterError, match="progress must be True or False, got 'no'"):
             call()
     assert not (tmp_path / "s").exists()
+
+
+def _session_19_bad_inputs():
+    import numpy as np
+
+    import jax.numpy as jnp
+
+    from jaxskip import WaterGrid, simulate_batch
+    from jaxskip.api import resolve_stone
+    from jaxskip.plotting import animate_throw
+    from jaxskip.stones import irregular_pebble
+    from jaxskip.water import run_water, still_water, total_volume
+
+    stone, _ = resolve_stone("paper")
+    replace = dataclasses_replace
+    return [
+        # a RigidStone built or changed by hand went straight in: NaN distances, a "sank" with a negative mass
+        (lambda: simulate(stone=replace(stone, mass=jnp.asarray(math.nan))), "stone.mass must be finite"),
+        (lambda: simulate(stone=replace(stone, mass=jnp.asarray(-1.0))), r"stone.mass must be > 0 kg"),
+        (lambda: simulate(stone=replace(stone, mass=jnp.asarray(100.0))), r"density in \[100, 25000\] kg/m\^3"),
+        (lambda: simulate(stone=replace(stone, triangles=stone.triangles * jnp.nan)), "stone.triangles must be finite"),
+        (lambda: simulate_batch(Throw.from_degrees(speed=np.array([6.0, 7.0])), replace(stone, triangles=stone.triangles[None])),
+         r"stone.triangles must have shape \(F, 3, 3\)"),
+        (lambda: simulate(stone=replace(stone, inertia=-stone.inertia)), "symmetric positive definite"),
+        (lambda: simulate(stone=replace(stone, radius=jnp.asarray(0.01))), "stone.radius"),
+        # text and bools passed float(): a config held a string, True counted as 1
+        (lambda: SimConfig(duration=True), "duration must be a real number"),
+        (lambda: SimConfig(dt="1e-4"), "dt must be a real number"),
+        (lambda: water_params(c_lift=True), "c_lift must be a real number"),
+        (lambda: rigid_stone(paper_stone(), density="2650"), "density must be a real number"),
+        (lambda: WaterGrid(spacing="0.02"), "spacing must be a real number"),
+        (lambda: WaterGrid(damping="1"), "damping must be a real number"),
+        # the water's functions given something else, or an integer dtype (the depth truncated to 0)
+        (lambda: still_water(WaterGrid(shape=(8, 8)), dtype="int32"), "dtype must be a floating-point dtype"),
+        (lambda: still_water("grid"), "grid must be a jaxskip.WaterGrid"),
+        (lambda: run_water((8, 8), None, 1), "grid must be a jaxskip.WaterGrid"),
+        (lambda: total_volume(None, None), "grid must be a jaxskip.WaterGrid"),
+        # raw NumPy errors, a bare TypeError, an animation at 0 frames/s (2-s frames)
+        (lambda: irregular_pebble(seed=-1), r"seed must be an integer >= 0"),
+        (lambda: irregular_pebble(seed=1.5), r"seed must be an integer >= 0"),
+        (lambda: SimConfig(force="bocquet"), "force must be a jaxskip.ForceModel"),
+        (lambda: animate_throw(None, stone, "throw.gif", fps=0), r"fps must be in \(0, 100\] frames/s"),
+        (lambda: animate_throw(None, stone, "throw.gif", fps=math.nan), "fps must be finite"),
+    ]
+
+
+@pytest.mark.parametrize("index", range(len(_session_19_bad_inputs())))
+def test_audit_fixes_session_19(index):
+    """Found by an audit of the public API in session 19: each ran on (a NaN or a wrong answer) or ended in
+    a raw AttributeError / TypeError / NumPy error; now a ParameterError (or MeshError) names the parameter."""
+    from jaxskip import MeshError
+
+    call, message = _session_19_bad_inputs()[index]
+    with pytest.raises((ParameterError, MeshError), match=message):
+        call()
+
+
+def test_a_hand_built_stone_that_is_valid_still_simulates_and_numbers_are_stored_as_floats():
+    """The stone check lets every built-in stone (and a heavier, still plausible one) through, and a
+    grid built from NumPy scalars holds plain floats (hashable, and equal to the same grid of floats)."""
+    import numpy as np
+
+    import jax.numpy as jnp
+
+    from jaxskip import BUILTIN_STONES, WaterGrid
+    from jaxskip.api import resolve_stone
+
+    for name in BUILTIN_STONES:
+        stone, _ = resolve_stone(name)
+        assert stone.check() is stone
+    stone, _ = resolve_stone("paper")
+    heavy = dataclasses_replace(stone, mass=stone.mass * 2.0, inertia=stone.inertia * 2.0,
+                                inv_inertia=stone.inv_inertia / 2.0)
+    assert resolve_stone(heavy)[0] is heavy
+    grid = WaterGrid(shape=(16, 16), spacing=np.float32(0.25), depth=np.float64(0.1), damping=np.int64(2))
+    assert type(grid.spacing) is float and type(grid.depth) is float and type(grid.damping) is float
+    assert grid == WaterGrid(shape=(16, 16), spacing=0.25, depth=0.1, damping=2.0)
+    assert hash(grid) == hash(WaterGrid(shape=(16, 16), spacing=0.25, depth=0.1, damping=2.0))
+    assert float(jnp.asarray(SimConfig(duration=np.float32(2.0)).duration)) == 2.0
+
+
+def test_cli_negative_numbers_in_e_notation_and_one_line_errors(capsys):
+    """`jaxskip throw --tilt -1e1` is -10 deg (argparse took "-1e1" for a flag: "expected one argument");
+    argparse's own errors are one line naming the flag (the usage block of 11-16 lines is gone)."""
+    from jaxskip.cli import build_parser, main
+
+    args = build_parser(["throw"]).parse_args(["throw", "--tilt", "-1e1", "--heading", "-2.5E2", "--attack", "-.5"])
+    assert (args.tilt, args.heading, args.attack) == (-10.0, -250.0, -0.5)
+    with pytest.raises(SystemExit) as e:
+        main(["throw", "--attitude", "wobbly"])
+    assert e.value.code == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "argument --attitude: invalid choice: 'wobbly'" in err, err
