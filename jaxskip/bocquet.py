@@ -24,7 +24,12 @@ Consequences (tested): for the square, immersed motion is harmonic with
 :math:`\mu M g L` of kinetic energy with :math:`\mu = \tilde C/C`, hence
 :math:`N \approx V_{x0}^2/(2\mu g L)`: the count grows like :math:`V^2`.
 
->>> r = reduced_throw(speed=12.0, tilt_deg=10.0, attack_deg=1.0)   # Bocquet's square, C_l = C_f = 1
+Units are SI throughout, angles included: ``tilt`` and ``attack`` are in radians (convert
+degrees once, at the caller's edge, e.g. ``math.radians(10.0)``). Every public function checks
+its concrete inputs before any tracing and raises :class:`~jaxskip.ParameterError` naming the
+parameter and its valid range.
+
+>>> r = reduced_throw(speed=12.0, tilt=math.radians(10.0), attack=math.radians(1.0))  # Bocquet's square
 >>> int(r.bounces) >= 10
 True
 """
@@ -36,36 +41,112 @@ import math
 
 import jax
 import jax.numpy as jnp
+import numpy as np
 
 from ._docs import document_fields
-from ._checks import ParameterError, check_choice, check_int, check_positive, check_range
+from ._checks import ParameterError, check_array, check_choice, check_int
+from .forces import COEFFICIENT_MAX
+from .throw import MAX_SPEED
 
 SHAPES = ("square", "disk")
+
+NET_LIFT_FLOOR = 1e-4
+"""Smallest accepted net lift coefficient, relative to C_l: a tilt is refused when
+:math:`C = C_l\\cos\\theta - C_f\\sin\\theta \\le 10^{-4} C_l`. :math:`C` is the difference of two
+terms of order :math:`C_l`; near :math:`\\theta = \\arctan(C_l/C_f)` it is mostly rounding (in float64
+:math:`C \\approx 10^{-16}` there, which gave a collision length of 1e7 m; float32 rounds at 1e-7), and
+:math:`L \\propto C^{-1/2}`, :math:`\\mu = \\tilde C/C` blow up. The floor lies well above either rounding,
+and excludes only tilts within :math:`10^{-4} C_l/\\tilde C \\le 10^{-4}` rad (0.006°) of the limit,
+where no stone skips anyway: the speed a fully immersed square needs to carry its weight,
+:math:`\\sqrt{2Mg/(C\\rho_w a^2)}`, is 44 m/s for Bocquet's 0.1 m, 0.1 kg square at the floor."""
+
+RHO_RANGE = (0.0, 20000.0)
+"""Accepted water density [kg/m^3]: (0, 20000], as :func:`jaxskip.water_params`."""
+G_RANGE = (0.0, 100.0)
+"""Accepted gravitational acceleration [m/s^2]: (0, 100], as :func:`jaxskip.water_params`."""
+
+
+def _scalar(name: str, value, low: float, high: float, *, unit: str = "", low_open: bool = False,
+            high_open: bool = False) -> float:
+    """A concrete real number (not a string, bool, array or tracer) in the range, as a float; else ParameterError."""
+    if isinstance(value, jax.core.Tracer):
+        raise ParameterError(f"{name} must be a concrete number (it is checked before tracing), not a traced value")
+    arr = check_array(name, value, low, high, unit=unit, low_open=low_open, high_open=high_open)
+    if arr.ndim:
+        raise ParameterError(f"{name} must be a single number, got an array of shape {arr.shape}")
+    return float(arr)
+
+
+def _batch(name: str, value, low: float, high: float, *, unit: str = "", low_open: bool = False,
+           high_open: bool = False):
+    """Concrete ``value`` (number or array) checked elementwise (float64 NumPy array); a tracer: ``None``."""
+    if isinstance(value, jax.core.Tracer):
+        return None
+    return check_array(name, value, low, high, unit=unit, low_open=low_open, high_open=high_open)
+
+
+def _constants(c_lift, c_friction, rho, g=None) -> tuple:
+    """The water's constants checked against :func:`jaxskip.water_params`' ranges (floats)."""
+    out = (_scalar("c_lift", c_lift, 0.0, COEFFICIENT_MAX, unit="[-]"),
+           _scalar("c_friction", c_friction, 0.0, COEFFICIENT_MAX, unit="[-]"),
+           _scalar("rho", rho, *RHO_RANGE, unit="kg/m^3", low_open=True))
+    return out if g is None else out + (_scalar("g", g, *G_RANGE, unit="m/s^2", low_open=True),)
+
+
+def _check_tilt(tilt, c_lift: float, c_friction: float) -> np.ndarray:
+    """Concrete ``tilt`` [rad] in (0, π/2) with net lift C > NET_LIFT_FLOOR * C_l, as a float64 array;
+    else :class:`ParameterError` naming the limit atan(C_l/C_f)."""
+    t = check_array("tilt", tilt, 0.0, math.pi / 2, unit="rad (convert degrees with math.radians)",
+                    low_open=True, high_open=True)
+    C = c_lift * np.cos(t) - c_friction * np.sin(t)
+    bad = C <= NET_LIFT_FLOOR * c_lift
+    if bad.any():
+        first, c = float(t[bad].flat[0]), float(C[bad].flat[0])
+        limit = math.atan2(c_lift, c_friction)
+        raise ParameterError(
+            f"tilt = {first!r} rad ({math.degrees(first):.4g} deg) leaves no net lift: C = C_l cos(tilt) - C_f "
+            f"sin(tilt) = {c:.3g} <= {NET_LIFT_FLOOR:g} C_l (c_lift = {c_lift:g}, c_friction = {c_friction:g}); "
+            f"tilt must be below atan(C_l/C_f) = {limit:.6g} rad ({math.degrees(limit):.4g} deg)")
+    return t
+
+
+def _check_stone(stone) -> "ReducedStone":
+    if not isinstance(stone, ReducedStone):
+        raise ParameterError(f"stone must be a ReducedStone, got {stone!r}")
+    return stone
 
 
 @document_fields
 @dataclasses.dataclass(frozen=True)
 class ReducedStone:
-    """A flat stone for the reduced model (static, hashable). SI units."""
+    """A flat stone for the reduced model (static, hashable). SI units.
+
+    ``size`` and ``mass`` are checked (real numbers > 0; not strings or bools) and stored as floats.
+
+    >>> ReducedStone("disk", 0.025, 0.0135).size
+    0.025
+    """
 
     shape: str = "square"
     """``"square"`` (side ``size``) or ``"disk"`` (radius ``size``)."""
     size: float = 0.1
-    """Side [m] of the square, or radius [m] of the disk. Bocquet's example: a 0.1 m square."""
+    """Side [m] of the square, or radius [m] of the disk, > 0. Bocquet's example: a 0.1 m square."""
     mass: float = 0.1
-    """Mass M [kg]. Bocquet's example: 0.1 kg."""
+    """Mass M [kg], > 0. Bocquet's example: 0.1 kg."""
 
     def __post_init__(self):
         check_choice("shape", self.shape, SHAPES)
-        check_positive("size", self.size, unit="m")
-        check_positive("mass", self.mass, unit="kg")
+        object.__setattr__(self, "size", _scalar("size", self.size, 0.0, math.inf, unit="m", low_open=True))
+        object.__setattr__(self, "mass", _scalar("mass", self.mass, 0.0, math.inf, unit="kg", low_open=True))
 
 
 @document_fields
 @jax.tree_util.register_dataclass
 @dataclasses.dataclass(frozen=True)
 class ReducedResult:
-    """What :func:`reduced_throw` returns (add a leading axis for a batch). K = ``max_contacts``."""
+    """What :func:`reduced_throw` returns. K = ``max_contacts``; for a batch of shape B (the broadcast
+    shape of ``speed``, ``tilt`` and ``attack``) every field gets B as leading axes: ``bounces`` B,
+    ``contact_time`` B + (K,)."""
 
     bounces: jax.Array
     """() int: contacts the stone left again."""
@@ -84,7 +165,14 @@ class ReducedResult:
 
 
 def immersed_area(stone: ReducedStone, depth, tilt):
-    """Immersed area [m^2] of the tilted stone whose trailing edge is ``depth`` [m] under water (≥ 0)."""
+    """Immersed area [m^2] of the stone tilted by ``tilt`` [rad] whose trailing edge is ``depth`` [m] under water.
+
+    A traceable helper of :func:`reduced_throw` (no checks): ``depth`` and ``tilt`` are numbers or arrays
+    that broadcast together (a negative depth counts as 0); the result has their broadcast shape.
+
+    >>> round(float(immersed_area(ReducedStone(), 0.01, math.radians(30.0))), 6)   # 0.1 m x 0.02 m wetted
+    0.002
+    """
     s = jnp.maximum(depth, 0.0) / jnp.sin(tilt)        # wetted length along the face
     if stone.shape == "square":
         return stone.size * jnp.minimum(s, stone.size)
@@ -96,68 +184,130 @@ def immersed_area(stone: ReducedStone, depth, tilt):
 
 
 def coefficients(tilt, c_lift=1.0, c_friction=1.0):
-    """Bocquet's :math:`C = C_l\\cos\\theta - C_f\\sin\\theta` and :math:`\\tilde C = C_l\\sin\\theta + C_f\\cos\\theta`."""
+    """Bocquet's :math:`C = C_l\\cos\\theta - C_f\\sin\\theta` and :math:`\\tilde C = C_l\\sin\\theta + C_f\\cos\\theta`.
+
+    A traceable helper (no checks): ``tilt`` [rad] (number or array), ``c_lift`` and ``c_friction`` [-].
+    Returns ``(C, C~)`` [-], each of ``tilt``'s shape. :math:`C` is the net lift: it vanishes at
+    :math:`\\theta = \\arctan(C_l/C_f)` and is negative beyond.
+
+    >>> [round(float(c), 3) for c in coefficients(math.radians(10.0))]
+    [0.811, 1.158]
+    """
     return (c_lift * jnp.cos(tilt) - c_friction * jnp.sin(tilt),
             c_lift * jnp.sin(tilt) + c_friction * jnp.cos(tilt))
 
 
-def collision_length(stone: ReducedStone, tilt_deg, c_lift=1.0, c_friction=1.0, rho=1000.0):
+def collision_length(stone: ReducedStone, tilt, c_lift=1.0, c_friction=1.0, rho=1000.0) -> float:
     """Analytic collision length [m] of a square: :math:`L = \\pi\\sqrt{2M\\sin\\theta/(C\\rho_w a)}`.
-
-    >>> round(collision_length(ReducedStone(), 10.0), 3)
-    0.065
-    """
-    if stone.shape != "square":
-        raise ParameterError("collision_length is derived for a square stone (shape='square')")
-    th = math.radians(check_range("tilt_deg", tilt_deg, 0.0, 90.0, low_open=True, high_open=True))
-    C = c_lift * math.cos(th) - c_friction * math.sin(th)
-    if C <= 0:
-        raise ParameterError(f"no lift at tilt {tilt_deg} deg: C = C_l cos - C_f sin = {C:.3g} <= 0")
-    return math.pi * math.sqrt(2.0 * stone.mass * math.sin(th) / (C * rho * stone.size))
-
-
-def estimated_bounces(speed, stone: ReducedStone, tilt_deg, c_lift=1.0, c_friction=1.0, rho=1000.0, g=9.81):
-    """Bocquet's estimate :math:`N \\approx V^2/(2\\mu g L)` for a square (``speed`` horizontal, m/s)."""
-    th = math.radians(tilt_deg)
-    C = c_lift * math.cos(th) - c_friction * math.sin(th)
-    mu = (c_lift * math.sin(th) + c_friction * math.cos(th)) / C
-    return speed ** 2 / (2.0 * mu * g * collision_length(stone, tilt_deg, c_lift, c_friction, rho))
-
-
-def reduced_throw(speed, tilt_deg, attack_deg, stone: ReducedStone | None = None, *, c_lift=1.0, c_friction=1.0,
-                  rho=1000.0, g=9.81, dt=2e-5, contact_steps=5000, max_contacts=64) -> ReducedResult:
-    """Skip a flat stone with Bocquet's reduced model; jit/vmap/grad-able in ``speed``, ``tilt_deg``, ``attack_deg``.
 
     Parameters
     ----------
-    speed : speed at first touch [m/s] (> 0); ``attack_deg``: its angle below the horizontal [deg].
-    tilt_deg : the stone's fixed tilt [deg], in (0, 90).
-    stone : :class:`ReducedStone`; default Bocquet's 0.1 m, 0.1 kg square.
-    c_lift, c_friction : C_l, C_f (Bocquet's example: 1, 1); ``rho`` [kg/m^3], ``g`` [m/s^2].
-    dt : contact time step [s]; ``contact_steps``: steps per contact before it counts as sunk
-        (``dt * contact_steps`` = 0.1 s by default); ``max_contacts``: contacts simulated.
+    stone : a square :class:`ReducedStone` (side a [m], mass M [kg]).
+    tilt : the stone's fixed tilt θ [rad], a number in (0, π/2) with net lift
+        :math:`C = C_l\\cos\\theta - C_f\\sin\\theta > 10^{-4} C_l` (:data:`NET_LIFT_FLOOR`), i.e. below
+        :math:`\\arctan(C_l/C_f)` (45° for the defaults).
+    c_lift, c_friction : C_l, C_f [-], in [0, 10] (as :func:`jaxskip.water_params`).
+    rho : water density [kg/m^3], in (0, 20000].
 
-    Python numbers are checked before tracing; arrays (a batch, or tracers) are used as given.
+    Returns
+    -------
+    float: the distance [m] the stone travels in one contact (independent of speed).
+
+    >>> round(collision_length(ReducedStone(), math.radians(10.0)), 3)
+    0.065
     """
-    stone = ReducedStone() if stone is None else stone
-    if not isinstance(stone, ReducedStone):
-        raise ParameterError(f"stone must be a ReducedStone, got {stone!r}")
-    for name, v in (("speed", speed), ("tilt_deg", tilt_deg), ("attack_deg", attack_deg)):
-        if isinstance(v, (int, float)):
-            if name == "speed":
-                check_positive("speed", v, unit="m/s")
-            elif name == "tilt_deg":
-                check_range("tilt_deg", v, 0.0, 90.0, unit="deg", low_open=True, high_open=True)
-            else:
-                check_range("attack_deg", v, 0.0, 90.0, unit="deg", high_open=True)
-    check_positive("dt", dt, unit="s")
-    check_int("contact_steps", contact_steps, minimum=1, maximum=10_000_000)
-    check_int("max_contacts", max_contacts, minimum=1, maximum=100_000)
-    for name, v in (("c_lift", c_lift), ("c_friction", c_friction), ("rho", rho), ("g", g)):
-        check_positive(name, v)
+    stone = _check_stone(stone)
+    if stone.shape != "square":
+        raise ParameterError("collision_length is derived for a square stone (shape='square')")
+    c_lift, c_friction, rho = _constants(c_lift, c_friction, rho)
+    th = _scalar("tilt", tilt, 0.0, math.pi / 2, unit="rad (convert degrees with math.radians)",
+                 low_open=True, high_open=True)
+    _check_tilt(th, c_lift, c_friction)
+    C = c_lift * math.cos(th) - c_friction * math.sin(th)
+    return math.pi * math.sqrt(2.0 * stone.mass * math.sin(th) / (C * rho * stone.size))
 
-    tilt = jnp.deg2rad(tilt_deg)
-    attack = jnp.deg2rad(attack_deg)
+
+def estimated_bounces(speed, stone: ReducedStone, tilt, c_lift=1.0, c_friction=1.0, rho=1000.0, g=9.81):
+    """Bocquet's estimate :math:`N \\approx V^2/(2\\mu g L)`, :math:`\\mu = \\tilde C/C`, of a square's bounce count.
+
+    Parameters
+    ----------
+    speed : horizontal speed at the first touch [m/s], in (0, 100]; a number or an array of them.
+    stone, tilt, c_lift, c_friction, rho : as :func:`collision_length` (``tilt`` [rad]).
+    g : gravitational acceleration [m/s^2], in (0, 100].
+
+    Returns
+    -------
+    The estimated bounce count [-], not rounded: a float for a number ``speed``, else a float64 NumPy
+    array of ``speed``'s shape. It neglects the vertical speed's losses (grazing incidence).
+
+    >>> round(estimated_bounces(12.0, ReducedStone(), math.radians(10.0)), 1)
+    79.1
+    """
+    v = _batch("speed", speed, 0.0, MAX_SPEED, unit="m/s", low_open=True)
+    if v is None:
+        raise ParameterError("speed must be concrete (estimated_bounces is plain Python arithmetic, not traceable)")
+    g = _scalar("g", g, *G_RANGE, unit="m/s^2", low_open=True)
+    L = collision_length(stone, tilt, c_lift, c_friction, rho)       # checks stone, tilt and the constants
+    th, c_lift, c_friction = float(tilt), float(c_lift), float(c_friction)    # checked above: plain numbers
+    mu = (c_lift * math.sin(th) + c_friction * math.cos(th)) / (c_lift * math.cos(th) - c_friction * math.sin(th))
+    n = v ** 2 / (2.0 * mu * g * L)
+    return float(n) if n.ndim == 0 else n
+
+
+def reduced_throw(speed, tilt, attack, stone: ReducedStone | None = None, *, c_lift=1.0, c_friction=1.0,
+                  rho=1000.0, g=9.81, dt=2e-5, contact_steps=5000, max_contacts=64) -> ReducedResult:
+    """Skip a flat stone with Bocquet's reduced model; jit/vmap/grad-able in ``speed``, ``tilt``, ``attack``.
+
+    Parameters
+    ----------
+    speed : speed at first touch [m/s], in (0, 100].
+    tilt : the stone's fixed tilt θ [rad], in (0, π/2), with net lift
+        :math:`C = C_l\\cos\\theta - C_f\\sin\\theta > 10^{-4} C_l` (:data:`NET_LIFT_FLOOR`), i.e. below
+        :math:`\\arctan(C_l/C_f)`: 45° for C_l = C_f = 1, 73° for the library's 1 and 0.3.
+    attack : angle of the velocity below the horizontal [rad], in [0, π/2).
+    stone : :class:`ReducedStone`; default Bocquet's 0.1 m, 0.1 kg square.
+    c_lift, c_friction : C_l, C_f [-], in [0, 10] (Bocquet's example: 1, 1).
+    rho : water density [kg/m^3], in (0, 20000]; ``g``: gravity [m/s^2], in (0, 100].
+    dt : contact time step [s] (> 0); ``contact_steps``: steps per contact before it counts as sunk
+        (``dt * contact_steps`` = 0.1 s by default); ``max_contacts``: contacts simulated (K).
+
+    ``speed``, ``tilt`` and ``attack`` are numbers or arrays; arrays broadcast together to a batch
+    shape B, and every field of the :class:`ReducedResult` gets B as leading axes (``jax.vmap`` over
+    scalars gives the same). Concrete values are checked elementwise before tracing (finite, in range,
+    net lift) and refused with :class:`~jaxskip.ParameterError`; traced values (inside ``jit``,
+    ``vmap``, ``grad``) are used as given, and a traced tilt without net lift (C <= 0) gives 0 bounces.
+    The other arguments must be concrete.
+
+    >>> r = reduced_throw(jnp.array([4.0, 8.0]), math.radians(10.0), math.radians(1.0), max_contacts=8)
+    >>> r.bounces.shape, r.contact_time.shape          # B = (2,), K = 8
+    ((2,), (2, 8))
+    >>> one = jax.vmap(lambda v: reduced_throw(v, math.radians(10.0), math.radians(1.0), max_contacts=8))
+    >>> bool((one(jnp.array([4.0, 8.0])).bounces == r.bounces).all())
+    True
+    """
+    stone = _check_stone(ReducedStone() if stone is None else stone)
+    c_lift, c_friction, rho, g = _constants(c_lift, c_friction, rho, g)
+    _batch("speed", speed, 0.0, MAX_SPEED, unit="m/s", low_open=True)
+    if not isinstance(tilt, jax.core.Tracer):
+        _check_tilt(tilt, c_lift, c_friction)
+    _batch("attack", attack, 0.0, math.pi / 2, unit="rad (convert degrees with math.radians)", high_open=True)
+    dt = _scalar("dt", dt, 0.0, math.inf, unit="s", low_open=True)
+    contact_steps = check_int("contact_steps", contact_steps, minimum=1, maximum=10_000_000)
+    max_contacts = check_int("max_contacts", max_contacts, minimum=1, maximum=100_000)
+
+    shape = jnp.broadcast_shapes(jnp.shape(speed), jnp.shape(tilt), jnp.shape(attack))
+    run = lambda v, th, a: _throw(v, th, a, stone, c_lift, c_friction, rho, g, dt, contact_steps,  # noqa: E731
+                                  max_contacts)
+    if shape == ():
+        return run(speed, tilt, attack)
+    flat = [jnp.broadcast_to(jnp.asarray(x), shape).reshape(-1) for x in (speed, tilt, attack)]
+    result = jax.vmap(run)(*flat)
+    return jax.tree_util.tree_map(lambda x: x.reshape(shape + x.shape[1:]), result)
+
+
+def _throw(speed, tilt, attack, stone, c_lift, c_friction, rho, g, dt, contact_steps, max_contacts) -> ReducedResult:
+    """One throw of :func:`reduced_throw` (scalars ``speed``, ``tilt`` [rad], ``attack`` [rad]; checked constants)."""
     C, Ct = coefficients(tilt, c_lift, c_friction)
     k = 0.5 * rho / stone.mass
 

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from jaxskip import ParameterError, SimConfig, Throw, clanet_disk, rigid_stone, rollout_jit, water_params
-from jaxskip.bocquet import ReducedStone, collision_length, reduced_throw
+from jaxskip.bocquet import ReducedStone, collision_length, estimated_bounces, reduced_throw
 
 
 @pytest.mark.parametrize("speed,tilt,attack", [(2.5, 20, 20), (3.5, 20, 20), (5.0, 20, 10), (8.0, 20, 5),
@@ -20,8 +20,9 @@ def test_mesh_simulator_agrees_with_reduced_model(speed, tilt, attack):
     the reduced one is a plate that feels V_x^2)."""
     disk = rigid_stone(clanet_disk(), density=2700.0)
     water = water_params()
-    reduced = reduced_throw(speed, tilt, attack, ReducedStone("disk", 0.025, float(disk.mass)),
-                            c_lift=float(water.c_lift), c_friction=float(water.c_friction), max_contacts=64)
+    reduced = reduced_throw(speed, math.radians(tilt), math.radians(attack),
+                            ReducedStone("disk", 0.025, float(disk.mass)), c_lift=float(water.c_lift),
+                            c_friction=float(water.c_friction), max_contacts=64)
     _, tr, _ = rollout_jit(SimConfig(record=False, attitude="fixed"),
                            Throw.from_degrees(speed=speed, tilt=tilt, attack=attack, spin=65.0), disk, water)
     t_mesh = float(tr.t_end[0] - tr.t_start[0])
@@ -31,8 +32,9 @@ def test_mesh_simulator_agrees_with_reduced_model(speed, tilt, attack):
 
 def test_collision_length_is_speed_independent():
     """Bocquet's square: contacts at 8 and 12 m/s (grazing) are as long as pi sqrt(2M sin/(C rho a))."""
-    L = collision_length(ReducedStone(), 10.0)
-    r = jax.vmap(lambda v: reduced_throw(v, 10.0, 1.0, max_contacts=8))(jnp.array([8.0, 12.0]))
+    L = collision_length(ReducedStone(), math.radians(10.0))
+    r = jax.vmap(lambda v: reduced_throw(v, math.radians(10.0), math.radians(1.0), max_contacts=8))(
+        jnp.array([8.0, 12.0]))
     lengths = np.asarray(r.contact_length[:, 1])      # a contact entered from flight
     assert np.all(np.abs(lengths / L - 1) < 0.15), lengths / L
     assert abs(lengths[0] / lengths[1] - 1) < 0.1
@@ -49,7 +51,7 @@ def test_no_bounce_when_full_immersion_cannot_hold_the_weight():
     v_star = math.sqrt(2 * st.mass * 9.81 / (C * 1000.0 * st.size ** 2))
     speeds = jnp.array([0.5, 0.9]) * v_star
     for attack in (0.5, 5.0, 30.0):
-        r = jax.vmap(lambda v: reduced_throw(v, 10.0, attack, max_contacts=4))(speeds)
+        r = jax.vmap(lambda v: reduced_throw(v, th, math.radians(attack), max_contacts=4))(speeds)
         assert np.all(np.asarray(r.bounces) == 0)
 
 
@@ -59,7 +61,8 @@ def test_count_grows_with_speed_faster_at_grazing_incidence():
     V = jnp.array([5.0, 8.0, 12.0])
     slopes = {}
     for attack in (1.0, 5.0):
-        n = np.asarray(jax.vmap(lambda v: reduced_throw(v, 10.0, attack, max_contacts=128))(V).bounces)
+        n = np.asarray(jax.vmap(lambda v: reduced_throw(v, math.radians(10.0), math.radians(attack),
+                                                        max_contacts=128))(V).bounces)
         assert np.all(np.diff(n) >= 0) and n[-1] > 0
         slopes[attack] = math.log(n[-1] / n[0]) / math.log(12.0 / 5.0)
     assert slopes[1.0] >= 1.6 and slopes[5.0] < 1.3, slopes
@@ -67,23 +70,140 @@ def test_count_grows_with_speed_faster_at_grazing_incidence():
 
 def test_batch_equals_one_at_a_time_and_gradient_is_finite():
     speeds = jnp.array([4.0, 7.0, 10.0])
-    batch = jax.jit(jax.vmap(lambda v: reduced_throw(v, 15.0, 3.0, max_contacts=32)))(speeds)
+    tilt, attack = math.radians(15.0), math.radians(3.0)
+    batch = jax.jit(jax.vmap(lambda v: reduced_throw(v, tilt, attack, max_contacts=32)))(speeds)
     for i, v in enumerate([4.0, 7.0, 10.0]):
-        one = reduced_throw(v, 15.0, 3.0, max_contacts=32)
+        one = reduced_throw(v, tilt, attack, max_contacts=32)
         assert int(one.bounces) == int(batch.bounces[i])
         assert float(one.distance) == pytest.approx(float(batch.distance[i]), rel=1e-12)
-    g = jax.grad(lambda v: reduced_throw(v, 15.0, 3.0, max_contacts=32).distance)(7.0)
+    g = jax.grad(lambda v: reduced_throw(v, tilt, attack, max_contacts=32).distance)(7.0)
     assert np.isfinite(float(g)) and float(g) > 0
 
 
 @pytest.mark.parametrize("kwargs,name", [
-    (dict(speed=0.0), "speed"), (dict(speed=float("nan")), "speed"), (dict(tilt_deg=90.0), "tilt_deg"),
-    (dict(tilt_deg=0.0), "tilt_deg"), (dict(attack_deg=-1.0), "attack_deg"), (dict(dt=0.0), "dt"),
+    (dict(speed=0.0), "speed"), (dict(speed=float("nan")), "speed"), (dict(tilt=math.pi / 2), "tilt"),
+    (dict(tilt=0.0), "tilt"), (dict(attack=math.radians(-1.0)), "attack"), (dict(dt=0.0), "dt"),
     (dict(max_contacts=0), "max_contacts"),
 ])
 def test_bad_input(kwargs, name):
-    args = dict(speed=5.0, tilt_deg=10.0, attack_deg=5.0) | kwargs
+    args = dict(speed=5.0, tilt=math.radians(10.0), attack=math.radians(5.0)) | kwargs
     with pytest.raises(ParameterError, match=name):
         reduced_throw(**args)
     with pytest.raises(ParameterError, match="shape"):
         ReducedStone(shape="triangle")
+
+
+def test_angles_are_radians():
+    """tilt and attack are in radians (SI), as everywhere in the library: 0.3 rad is a 17.2 deg tilt,
+    and a value in degrees (20) is refused, not read as 20 rad."""
+    st, th = ReducedStone(), 0.3
+    C, Ct = math.cos(th) - math.sin(th), math.sin(th) + math.cos(th)
+    L = math.pi * math.sqrt(2 * st.mass * math.sin(th) / (C * 1000.0 * st.size))
+    assert collision_length(st, th) == pytest.approx(L, rel=1e-12)
+    assert estimated_bounces(10.0, st, th) == pytest.approx(10.0 ** 2 / (2 * Ct / C * 9.81 * L), rel=1e-12)
+    # The simulated contact length (a contact entered from flight) is Bocquet's L for 0.3 rad, not for
+    # 0.3 deg (where L is 9x shorter).
+    r = reduced_throw(10.0, th, math.radians(1.0), max_contacts=4)
+    assert float(r.contact_length[1]) == pytest.approx(L, rel=0.15)
+    for f in (lambda: collision_length(st, 20.0), lambda: estimated_bounces(10.0, st, 20.0),
+              lambda: reduced_throw(10.0, 20.0, 0.1), lambda: reduced_throw(10.0, 0.2, 5.0)):
+        with pytest.raises(ParameterError, match=r"rad.*math\.radians"):
+            f()
+
+
+def test_reduced_throw_takes_a_batch_of_arrays():
+    """Arrays broadcast to a batch (leading axes on every field), each element as its own throw."""
+    tilt, attack = math.radians(15.0), math.radians(3.0)
+    speeds = jnp.array([4.0, 10.0])
+    r = reduced_throw(speeds, tilt, attack, max_contacts=16)
+    assert r.bounces.shape == (2,) and r.contact_time.shape == (2, 16)
+    for i, v in enumerate([4.0, 10.0]):
+        one = reduced_throw(v, tilt, attack, max_contacts=16)
+        assert int(r.bounces[i]) == int(one.bounces)
+        assert float(r.distance[i]) == pytest.approx(float(one.distance), rel=1e-12)
+    assert int(r.bounces[1]) > int(r.bounces[0]) > 0
+    # Broadcast: speeds (2, 1) against tilts (2,) -> (2, 2); numpy arrays too.
+    grid = reduced_throw(np.array([[4.0], [10.0]]), np.array([tilt, tilt]), attack, max_contacts=16)
+    assert grid.bounces.shape == (2, 2) and grid.impulse_z.shape == (2, 2, 16)
+    np.testing.assert_array_equal(np.asarray(grid.bounces), np.repeat(np.asarray(r.bounces)[:, None], 2, axis=1))
+
+
+@pytest.mark.parametrize("kwargs,name", [
+    (dict(speed=jnp.array([5.0, float("nan")])), "speed"), (dict(speed=np.array([5.0, -1.0])), "speed"),
+    (dict(speed=np.array([5.0, 200.0])), "speed"), (dict(tilt=np.array([0.2, float("nan")])), "tilt"),
+    (dict(attack=jnp.array([0.1, float("inf")])), "attack"), (dict(attack=np.array([0.1, -0.1])), "attack"),
+    (dict(tilt=jnp.asarray(float("nan"))), "tilt"), (dict(attack=jnp.asarray(float("nan"))), "attack"),
+    (dict(speed=jnp.asarray(-5.0)), "speed"),
+])
+def test_bad_arrays_are_refused(kwargs, name):
+    """Concrete arrays are checked elementwise: no silent NaN, no raw JAX error."""
+    args = dict(speed=5.0, tilt=0.2, attack=0.05) | kwargs
+    with pytest.raises(ParameterError, match=name):
+        reduced_throw(**args, max_contacts=2)
+
+
+def test_tilt_without_net_lift_is_refused_naming_the_limit():
+    """Beyond atan(C_l/C_f) (45 deg for C_l = C_f = 1) the net lift C = C_l cos - C_f sin is <= 0: a clear
+    error naming tilt and the limit, as collision_length gives, not a silent 0 bounces / 0 m."""
+    for tilt in (math.radians(50.0), np.array([0.2, math.radians(50.0)])):
+        with pytest.raises(ParameterError, match=r"tilt.*atan\(C_l/C_f\) = 0\.785398 rad"):
+            reduced_throw(8.0, tilt, 0.02, max_contacts=2)
+    with pytest.raises(ParameterError, match=r"tilt.*atan\(C_l/C_f\) = 0\.785398 rad"):
+        collision_length(ReducedStone(), math.radians(50.0))
+    # With the library's C_f = 0.3 the limit is 73.3 deg: 50 deg still skips.
+    with pytest.raises(ParameterError, match=r"1\.27934 rad \(73\.3 deg\)"):
+        reduced_throw(8.0, math.radians(75.0), 0.02, c_friction=0.3, max_contacts=2)
+    assert int(reduced_throw(8.0, math.radians(50.0), math.radians(2.0), c_friction=0.3).bounces) > 0
+
+
+def test_estimated_bounces_checks_its_inputs():
+    """No NaN, no count for a negative speed, no ZeroDivisionError / math domain error, and no
+    collision length of 1e7 m at the tilt where C is rounding (C ~ 1e-16)."""
+    st = ReducedStone()
+    th = math.radians(10.0)
+    for speed in (float("nan"), -5.0, 0.0, 1e3):
+        with pytest.raises(ParameterError, match="speed"):
+            estimated_bounces(speed, st, th)
+    for kwargs, name in ((dict(rho=0.0), "rho"), (dict(rho=-1.0), "rho"), (dict(g=0.0), "g"),
+                         (dict(g=float("nan")), "g"), (dict(c_lift=11.0), "c_lift"),
+                         (dict(c_friction=-0.1), "c_friction"), (dict(c_lift=float("inf")), "c_lift")):
+        with pytest.raises(ParameterError, match=name):
+            estimated_bounces(8.0, st, th, **kwargs)
+    for kwargs, name in ((dict(rho=-1.0), "rho"), (dict(rho=0.0), "rho"), (dict(c_friction=11.0), "c_friction")):
+        with pytest.raises(ParameterError, match=name):
+            collision_length(st, th, **kwargs)
+    with pytest.raises(ParameterError, match="stone"):
+        estimated_bounces(8.0, "square", th)
+    # C = cos - sin vanishes at 45 deg; atan(1) gives C ~ 1e-16 and a collision length of 1e7 m.
+    for tilt in (math.atan(1.0), math.atan(1.0) - 1e-6):
+        for f in (collision_length, lambda s, t: estimated_bounces(8.0, s, t)):
+            with pytest.raises(ParameterError, match="tilt"):
+                f(st, tilt)
+    # 0.01 rad inside the limit is accepted, and the count is Bocquet's estimate there.
+    th = math.atan(1.0) - 0.01
+    C, Ct = math.cos(th) - math.sin(th), math.sin(th) + math.cos(th)
+    L = math.pi * math.sqrt(2 * st.mass * math.sin(th) / (C * 1000.0 * st.size))
+    assert estimated_bounces(8.0, st, th) == pytest.approx(64.0 / (2 * Ct / C * 9.81 * L), rel=1e-12)
+    # Arrays of speeds: the estimate for each.
+    n = estimated_bounces(np.array([4.0, 8.0]), st, math.radians(10.0))
+    assert n.shape == (2,) and n[1] == pytest.approx(4 * n[0], rel=1e-12)
+
+
+@pytest.mark.parametrize("make", [
+    lambda: ReducedStone(size="0.1"), lambda: ReducedStone(mass="0.1"), lambda: ReducedStone(size=True),
+    lambda: reduced_throw(5.0, 0.2, 0.05, rho="1000"), lambda: reduced_throw(5.0, 0.2, 0.05, g="9.81"),
+    lambda: reduced_throw(5.0, 0.2, 0.05, c_lift="1"), lambda: reduced_throw(5.0, 0.2, 0.05, dt="2e-5"),
+    lambda: reduced_throw("5", 0.2, 0.05), lambda: reduced_throw(5.0, "0.2", 0.05),
+    lambda: collision_length(ReducedStone(), 0.2, rho="1000"), lambda: estimated_bounces("5", ReducedStone(), 0.2),
+])
+def test_strings_and_bools_are_refused(make):
+    """A string or a bool is not a number: ParameterError, not a raw JAX TypeError later (or a silent 1)."""
+    with pytest.raises(ParameterError):
+        make()
+
+
+def test_stone_fields_are_stored_as_floats():
+    """A checked stone is hashable and static even when built from NumPy or JAX scalars."""
+    st = ReducedStone("disk", np.float64(0.025), jnp.asarray(0.0135))
+    assert type(st.size) is float and type(st.mass) is float
+    assert st == ReducedStone("disk", 0.025, 0.0135) and hash(st) == hash(ReducedStone("disk", 0.025, 0.0135))
