@@ -38,6 +38,12 @@ def _only(p, table, flag, text, **kw):
     p.add_argument(flag, help=f"({', '.join(table[flag[2:].replace('-', '_')])}) {text}", **kw)
 
 
+def _count(n: int) -> str:
+    """A count limit as help text: a power of ten from 10^4 on as ``10^k`` (``10^8``), others as digits."""
+    k = len(str(n)) - 1
+    return f"10^{k}" if k >= 4 and n == 10 ** k else str(n)
+
+
 def add_parsers(sub, ranges: bool = True) -> None:
     """Add the ``optimize`` and ``sweep`` subcommands to ``sub``.
 
@@ -46,10 +52,19 @@ def add_parsers(sub, ranges: bool = True) -> None:
     command line asks for them only when it runs ``optimize`` or ``sweep``."""
     if ranges:
         from optimize.bounds import LIMITS
-        from optimize.sweep import limit_text
+        from optimize.search import (MAX_GRID_POINTS, MAX_ITERATIONS, MAX_PER_AXIS, MAX_SAMPLES, MAX_STARTS,
+                                     MAX_THROWS)
+        from optimize.sweep import MAX_BISECTIONS, limit_text
+
+        spans = {"starts": (1, MAX_STARTS), "iterations": (1, MAX_ITERATIONS), "polish": (0, MAX_THROWS),
+                 "samples": (1, MAX_SAMPLES), "per_axis": (2, MAX_PER_AXIS), "throws": (1, MAX_THROWS),
+                 "bisections": (1, MAX_BISECTIONS)}
+        span = lambda name: f"[{_count(spans[name][0])}, {_count(spans[name][1])}]"  # noqa: E731
+        points = _count(MAX_GRID_POINTS)
     else:  # (help texts that are never shown)
         LIMITS = {name: (math.nan, math.nan, None) for name, *_ in RANGES}
-        limit_text = lambda name: "range"  # noqa: E731
+        limit_text = span = lambda name: "range"  # noqa: E731
+        points = "N"
 
     o = sub.add_parser("optimize", help="search for the throw with the most bounces", description=(
         "Search the throw parameters within bounds for the most bounces (true counts from the exact "
@@ -69,20 +84,21 @@ def add_parsers(sub, ranges: bool = True) -> None:
                         "grid or random (exhaustive baselines)")
     _only(o, METHOD_FLAGS, "--objective", "what the gradient search ascends (default bounces: the smooth count)",
           choices=("bounces", "distance"))
-    _only(o, METHOD_FLAGS, "--starts", "random starts (default 8)", type=int, metavar="N")
-    _only(o, METHOD_FLAGS, "--iterations", "optimiser steps (default 20)", type=int, metavar="N")
-    _only(o, METHOD_FLAGS, "--learning-rate", "Adam step in the unconstrained coordinates (default 0.3)",
+    _only(o, METHOD_FLAGS, "--starts", f"random starts, in {span('starts')} (default 8)", type=int, metavar="N")
+    _only(o, METHOD_FLAGS, "--iterations", f"optimiser steps, in {span('iterations')} (default 20)", type=int,
+          metavar="N")
+    _only(o, METHOD_FLAGS, "--learning-rate", "Adam step in the unconstrained coordinates [-], > 0 (default 0.3)",
           type=_float("--learning-rate"), metavar="LR")
-    _only(o, METHOD_FLAGS, "--polish", f"exact throws sampled near the best throws found, after the ascent "
-          f"(default {METHOD_DEFAULTS['polish']}; 0: none). The free stone's count is chaotic: sampling near the "
-          "ascent's best usually finds more than the ascent", type=int, metavar="N")
-    _only(o, METHOD_FLAGS, "--samples", "antithetic pairs of exact throws per start and iteration (default 8)",
-          type=int, metavar="N")
-    _only(o, METHOD_FLAGS, "--horizon", "steps the surrogate is differentiated through (default: the whole rollout)",
-          type=int, metavar="STEPS")
-    _only(o, METHOD_FLAGS, "--per-axis", f"grid points per searched parameter (default {METHOD_DEFAULTS['per_axis']})",
-          type=int, metavar="N")
-    _only(o, METHOD_FLAGS, "--throws", "random throws (default 1000)", type=int, metavar="N")
+    _only(o, METHOD_FLAGS, "--polish", f"exact throws sampled near the best throws found, after the ascent, in "
+          f"{span('polish')} (default {METHOD_DEFAULTS['polish']}; 0: none). The free stone's count is chaotic: "
+          "sampling near the ascent's best usually finds more than the ascent", type=int, metavar="N")
+    _only(o, METHOD_FLAGS, "--samples", f"antithetic pairs of exact throws per start and iteration, in "
+          f"{span('samples')} (default 8)", type=int, metavar="N")
+    _only(o, METHOD_FLAGS, "--horizon", "steps the surrogate is differentiated through, in [1, --max-steps] "
+          "(default: the whole rollout)", type=int, metavar="STEPS")
+    _only(o, METHOD_FLAGS, "--per-axis", f"grid points per searched parameter, in {span('per_axis')}, at most "
+          f"{points} grid points in all (default {METHOD_DEFAULTS['per_axis']})", type=int, metavar="N")
+    _only(o, METHOD_FLAGS, "--throws", f"random throws, in {span('throws')} (default 1000)", type=int, metavar="N")
     _only(o, METHOD_FLAGS, "--seed", "random seed, >= 0 (default 0)", type=int)
     add_common(o)
 
@@ -103,15 +119,17 @@ def add_parsers(sub, ranges: bool = True) -> None:
           metavar="M/S")
     _only(s, SWEEP_FLAGS, "--speed-range", f"bisection bracket, within {limit_text('speed')} (default 0.5 8)",
           nargs=2, type=_float("--speed-range"), metavar=("LOW", "HIGH"))
-    _only(s, SWEEP_FLAGS, "--iterations", "bisection steps (default 10)", type=int, metavar="N")
+    _only(s, SWEEP_FLAGS, "--iterations", f"bisection steps, in {span('bisections')} (default 10)", type=int,
+          metavar="N")
     _only(s, SWEEP_FLAGS, "--spin", f"spin, in {limit_text('spin')} (default 65)", type=_float("--spin"),
           metavar="REV/S")
     s.add_argument("--out", metavar="DIR", help="folder (its parent must exist) for chunk files and "
                    "result.json/result.csv; re-running resumes there")
-    _only(s, SWEEP_FLAGS, "--chunk-size", "work items per chunk file: tilts (umin) or grid points (domain) "
+    _only(s, SWEEP_FLAGS, "--chunk-size", "work items per chunk file, >= 1: tilts (umin) or grid points (domain) "
           "(default: ceil(items / 8), at least 256 grid points for domain)", type=int, metavar="N")
-    _only(s, SWEEP_FLAGS, "--shard-index", "this machine's shard (default 0; needs --out)", type=int, metavar="I")
-    _only(s, SWEEP_FLAGS, "--num-shards", "machines sharing the sweep (default 1; needs --out)", type=int,
+    _only(s, SWEEP_FLAGS, "--shard-index", "this machine's shard, in [0, N-1] for --num-shards N (default 0; "
+          "needs --out)", type=int, metavar="I")
+    _only(s, SWEEP_FLAGS, "--num-shards", "machines sharing the sweep, >= 1 (default 1; needs --out)", type=int,
           metavar="N")
     add_common(s, stone="clanet", attitude="fixed")
 
@@ -151,6 +169,16 @@ def _values(text: str, name: str) -> list:
 
 
 def run_optimize(args) -> int:
+    """Run ``jaxskip optimize`` on the parsed ``args`` (:func:`add_parsers`); returns the exit status, 0.
+
+    The box comes from ``--NAME-range LOW HIGH`` (searched; default :data:`RANGES`) or ``--NAME VALUE``
+    (held), in user units (m/s, deg, rev/s); the method's flags (:data:`METHOD_FLAGS`) and the simulation
+    flags (:func:`jaxskip.cli.add_common`) are checked before anything is compiled. Prints the best throw and
+    the search's cost (``--json``: one JSON object, :meth:`optimize.search.SearchResult.to_dict` with the
+    gradient norms, the resolved configuration and the environment); ``--plot`` saves
+    :func:`optimize.plot_search`'s picture. Bad input raises :class:`~jaxskip.ParameterError` (the command
+    line turns it into exit status 2 and a one-line message).
+    """
     _check_used(args, f"--method {args.method}", args.method, METHOD_FLAGS)
     check_output("--plot", args.plot, PICTURES)
     if args.seed is not None:
@@ -222,6 +250,17 @@ def run_optimize(args) -> int:
 
 
 def run_sweep_command(args) -> int:
+    """Run ``jaxskip sweep umin|domain|merge`` on the parsed ``args`` (:func:`add_parsers`); returns the exit
+    status, 0.
+
+    ``umin``/``domain``: the sweep's settings (degrees, m/s, rev/s) are validated by
+    :func:`optimize.make_spec` and its chunks computed by :func:`optimize.run_sweep` (this shard's, with
+    ``--shard-index``/``--num-shards``), resuming in ``--out``; ``merge``: the shards' folders joined into
+    ``--out`` (:func:`optimize.merge`). Prints U_min per tilt and the magic angle, or the bounce domain's
+    summary (``--json``: one JSON object with ``"complete"``: False while other shards' chunks are missing);
+    ``--plot`` saves :func:`optimize.plot_sweep`'s picture. Bad input raises :class:`~jaxskip.ParameterError`
+    before anything is compiled or written (the command line turns it into exit status 2).
+    """
     _check_used(args, f"sweep {args.kind}", args.kind, SWEEP_FLAGS)
     check_output("--plot", args.plot, PICTURES)
     check_output("--out", args.out)

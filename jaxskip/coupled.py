@@ -53,12 +53,13 @@ import math
 
 import jax
 import jax.numpy as jnp
+import numpy as np
 
 from ._docs import document_fields
 from .body import RigidStone
 from .forces import WaterParams
 from .simulate import SimConfig, _new_tracker, _scan, initial_state, make_step
-from ._checks import check_int, check_range
+from ._checks import ParameterError, check_bool, check_int, check_range
 from .throw import Throw
 from .water import WaterGrid, WaterState, deposit, height_at, make_water_step, still_water, water_substeps
 
@@ -94,7 +95,18 @@ def _spread(a, passes: int):
 
 
 def default_water_dt(grid: WaterGrid) -> float:
-    """The coupled water's step [s]: 1 ms (a tenth of a contact), or the grid's stable step if shorter."""
+    """The coupled water's step [s]: 1 ms (a tenth of a contact), or ``grid.time_step`` if shorter.
+
+    ``grid.time_step`` is the grid's own water step: its ``dt`` if given, else ``cfl`` (default 0.5)
+    times the stability bound :func:`jaxskip.water.stable_dt` — not the bound itself.
+
+    >>> from jaxskip.water import WaterGrid, stable_dt
+    >>> fine = WaterGrid(shape=(16, 16), spacing=0.001, depth=0.02)  # stable_dt 1.96 ms, time_step 0.98 ms
+    >>> default_water_dt(fine) == fine.time_step == 0.5 * stable_dt(0.001, 0.02)
+    True
+    >>> default_water_dt(default_window())  # time_step 9.8 ms
+    0.001
+    """
     return min(1e-3, grid.time_step)
 
 
@@ -157,14 +169,15 @@ def make_coupled_step(config: SimConfig, grid: WaterGrid, water_dt: float | None
 
     ``carry = (StoneState, Tracker, Field)``; ``record`` is the stone's
     :class:`jaxskip.simulate.Record` (or None). ``grid.origin`` is ignored: the
-    window's origin is ``offset * grid.spacing``. ``water_dt`` [s]: the water
+    window's origin is ``offset * grid.spacing``. ``water_dt`` [s], in (0, ``grid.time_step``]
+    (the grid's water step, :func:`default_water_dt`): the water
     steps once the stone steps since its last step add up to this, to within half a
-    ``config.dt`` (or half of ``water_dt`` if less; default
+    ``config.dt`` (or half of ``water_dt`` if less; default None:
     ``min(1 ms, grid.time_step)``); the stone's push is averaged over them.
     A stone step ``config.dt`` longer than ``grid.time_step`` gets ``ceil(dt / time_step)`` water
-    substeps. ``two_way=False``: the stone does not push the water (one-way: it reads a
-    field that stays as it started; from still water this is flat water).
-    ``spread``: passes of a [1, 2, 1]/4 filter over the push before it reaches
+    substeps. ``two_way``: True (default) or False; False: the stone does not push the water (one-way: it
+    reads a field that stays as it started; from still water this is flat water).
+    ``spread``: an integer in [0, 100], passes of a [1, 2, 1]/4 filter over the push before it reaches
     the water (each triangle's force lands on the columns of its centroid; the
     filter spreads it over ~``spread`` columns, a triangle's size, instead of
     exciting the grid's shortest, checkerboard waves). 0: no spreading.
@@ -172,6 +185,7 @@ def make_coupled_step(config: SimConfig, grid: WaterGrid, water_dt: float | None
     water_dt = default_water_dt(grid) if water_dt is None else check_range(
         "water_dt", water_dt, 0.0, grid.time_step, unit="s", low_open=True)
     check_int("spread", spread, minimum=0, maximum=100)
+    two_way = check_bool("two_way", two_way)
     # A stone step longer than the water's stable step is covered by substeps (the water keeps time).
     substeps = water_substeps(grid, config.dt)
     water_step = make_water_step(grid, clamp_blocks=tuple(
@@ -222,12 +236,42 @@ class Field:
 
 
 def initial_field(grid: WaterGrid, position) -> Field:
-    """Still water in a window centred on ``position`` (3,) [m], nothing pending."""
+    """Still water in a window centred on ``position`` [m], nothing pending.
+
+    ``position``: the stone's centre of mass, (3,) ``(x, y, z)`` or (2,) ``(x, y)`` [m] (only x and y
+    place the window), finite real numbers; a JAX or NumPy float array keeps its dtype (the field's),
+    anything else becomes an array of JAX's default float. A traced value (inside ``jit``) is checked
+    for its shape and type only. Bad input raises :class:`~jaxskip.ParameterError`.
+
+    >>> f = initial_field(default_window(), [0.1, 0.0, 0.01])
+    >>> f.offset.tolist(), f.water.height.shape, float(f.pending)
+    ([-22, -32], (64, 64), 0.0)
+    """
+    position = _checked_position(position)
     dtype = position.dtype
     nx, ny = grid.shape
     offset = (jnp.round(position[:2] / grid.spacing).astype(jnp.int32)
               - jnp.array([nx // 2, ny // 2], jnp.int32))
     return Field(still_water(grid, dtype=dtype), offset, jnp.zeros(grid.shape, dtype), jnp.zeros((), dtype))
+
+
+def _checked_position(position):
+    """``position`` (2,) or (3,) [m] as a float JAX array; a concrete one must be finite real numbers."""
+    valid = "2 or 3 finite real numbers, (x, y[, z]) [m]"
+    if isinstance(position, jax.core.Tracer):
+        if position.shape not in ((2,), (3,)) or not jnp.issubdtype(position.dtype, jnp.floating):
+            raise ParameterError(f"position must be {valid}, got a traced {position.dtype} array of shape "
+                                 f"{position.shape}")
+        return position
+    try:
+        raw = np.asarray(position)
+    except (TypeError, ValueError):
+        raw = None
+    if raw is None or raw.shape not in ((2,), (3,)) or raw.dtype.kind not in "iuf" or not np.all(np.isfinite(raw)):
+        raise ParameterError(f"position must be {valid}, got {position!r}")
+    if isinstance(position, (jax.Array, np.ndarray)) and raw.dtype.kind == "f":
+        return jnp.asarray(position)
+    return jnp.asarray(raw, dtype=jnp.result_type(float))
 
 
 def rollout_coupled(config: SimConfig, grid: WaterGrid, throw: Throw, stone: RigidStone, water: WaterParams,

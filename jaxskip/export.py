@@ -34,6 +34,8 @@ import numpy as np
 
 from . import quaternion as quat
 from ._checks import ParameterError, check_range
+from .api import ThrowResult
+from .body import RigidStone
 from .mesh import TriMesh, write_obj
 from .simulate import _momentum_from_spin, free_rotation
 
@@ -66,7 +68,16 @@ def frames(result, fps: float = 60.0) -> dict:
     quaternion (w, x, y, z), body to world), ``velocity`` (M, 3) [m/s], ``in_water`` (M,) bool (the
     step the frame falls in had a wet triangle). With ``attitude="fixed"`` the attitude is held, as
     in the simulation (the recorded spin is the throw's, never applied).
+
+    ``result``: a :class:`jaxskip.ThrowResult` with its trajectory (as :func:`jaxskip.simulate`
+    returns it); anything else is refused with :class:`~jaxskip.ParameterError`.
+
+    >>> from jaxskip import simulate
+    >>> f = frames(simulate(), fps=30.0)
+    >>> float(f["time"][1]), f["position"].shape == (len(f["time"]), 3), bool(f["in_water"].any())
+    (0.03333333333333333, True, True)
     """
+    _check_result(result)
     fps = check_range("fps", fps, 0.0, MAX_FPS, unit="frames/s", low_open=True)
     if result.rigid is None:
         raise ParameterError("result has no stone (rigid): frames need a ThrowResult from jaxskip.simulate")
@@ -90,12 +101,23 @@ def frames(result, fps: float = 60.0) -> dict:
             "velocity": np.asarray(v)[:m], "in_water": np.asarray(traj["wetted_area"])[i] > 0.0}
 
 
+def _check_result(result) -> None:
+    """Refuse anything but a :class:`jaxskip.ThrowResult` (a batch's result, a dict, ...)."""
+    if not isinstance(result, ThrowResult):
+        raise ParameterError(f"result must be a jaxskip.ThrowResult (as returned by jaxskip.simulate), "
+                             f"got {type(result).__name__}")
+
+
 def body_mesh(stone) -> TriMesh:
     """The stone's surface in its body frame [m] (origin at the centre of mass, axes along the principal
     axes: the frame :func:`frames`' positions and quaternions place), as a closed indexed mesh.
 
-    A vertex of the body at ``v`` is at ``R(q) v + x`` in the world, with ``x`` a frame's position and
-    ``R(q)`` its quaternion's rotation."""
+    ``stone``: a :class:`jaxskip.RigidStone` (e.g. a :class:`jaxskip.ThrowResult`'s ``rigid``);
+    anything else is refused with :class:`~jaxskip.ParameterError`. A vertex of the body at ``v`` is at
+    ``R(q) v + x`` in the world, with ``x`` a frame's position and ``R(q)`` its quaternion's rotation."""
+    if not isinstance(stone, RigidStone):
+        raise ParameterError(f"stone must be a jaxskip.RigidStone (e.g. a ThrowResult's .rigid, or "
+                             f"jaxskip.rigid_stone(mesh)), got {type(stone).__name__}")
     tri = np.asarray(stone.triangles, dtype=np.float64)
     vertices, index = np.unique(tri.reshape(-1, 3), axis=0, return_inverse=True)
     return TriMesh(vertices, index.reshape(-1, 3), name="stone in its body frame")
@@ -108,22 +130,50 @@ def stone_path(path) -> str:
 
 
 def write_trajectory(result, path, fps: float = 60.0) -> str:
-    """Write :func:`frames` of ``result`` to ``path``: ``.csv`` (a commented header with the throw, then
-    one row per frame, columns :data:`COLUMNS`) or ``.json`` (``{"about", "fps", "units", "stone_obj",
-    "frames": {column: list}}``). SI units; quaternions (w, x, y, z) rotate body to world (z up).
+    """Write :func:`frames` of ``result`` to ``path`` and the stone beside it; return the stone's path.
 
-    Writes the stone beside it, in the body frame those quaternions rotate (:func:`body_mesh`), as
-    ``PATH`` with :data:`STONE_SUFFIX` (``throw.csv`` -> ``throw.stone.obj``; its first line describes
-    the throw); returns that path. The CSV is plain: the column names (:data:`COLUMNS`) on its
-    first line, then one row per frame."""
+    ``result``: a :class:`jaxskip.ThrowResult` (:func:`jaxskip.simulate`). ``path``: a ``str`` or
+    :class:`os.PathLike` ending in ``.csv`` or ``.json`` (any case), in a folder that exists, and not
+    itself a folder (nor is the stone's path); the file is overwritten. ``fps`` [1/s] in (0, 10000].
+    Everything is checked before anything is written. SI units; quaternions (w, x, y, z) rotate body
+    to world (z up, the water at z = 0).
+
+    * ``.csv``: plain, no comment lines: the column names :data:`COLUMNS` on the first line, then one
+      row per frame (time with 6 decimals, the other values with 9 significant digits, ``in_water``
+      0 or 1).
+    * ``.json``: one object ``{"about": text (the throw, as the OBJ's first line), "fps": fps, "units":
+      {key: unit}, "stone_obj": the OBJ's file name, "frames": {key: list, one value per frame}}`` with
+      the keys ``t, x, y, z, qw, qx, qy, qz, vx, vy, vz, in_water`` (not :data:`COLUMNS`: no units in
+      the names; ``units`` gives them, ``in_water`` as true/false).
+
+    The stone is written in the body frame those quaternions rotate (:func:`body_mesh`) as an OBJ at
+    :func:`stone_path` (``PATH`` with :data:`STONE_SUFFIX`: ``throw.csv`` -> ``throw.stone.obj``;
+    overwritten), its first line a comment describing the throw (stone, mass, speed, angles, spin,
+    bounces, outcome, frame rate); that path is returned.
+
+    >>> import os, tempfile
+    >>> from jaxskip import simulate
+    >>> with tempfile.TemporaryDirectory() as folder:
+    ...     obj = write_trajectory(simulate(), os.path.join(folder, "throw.csv"), fps=30.0)
+    ...     with open(os.path.join(folder, "throw.csv")) as fh:
+    ...         header = fh.readline().strip()
+    >>> os.path.basename(obj), header == ",".join(COLUMNS)
+    ('throw.stone.obj', True)
+    """
+    _check_result(result)
+    if not isinstance(path, (str, os.PathLike)) or not isinstance(os.fspath(path), str):
+        raise ParameterError(f"path must be a str or os.PathLike ending in .csv or .json, got {path!r}")
     path = os.fspath(path)
     if not path.lower().endswith((".csv", ".json")):
         raise ParameterError(f"path must end in .csv or .json, got {path!r}")
     folder = os.path.dirname(os.path.abspath(path))
     if not os.path.isdir(folder):
         raise ParameterError(f"path's folder must exist, got {path!r} (no folder {folder!r})")
-    f = frames(result, fps)
     obj = stone_path(path)
+    for name, target in (("path", path), ("path's stone file", obj)):
+        if os.path.isdir(target):
+            raise ParameterError(f"{name} {target!r} is a folder, not a file: choose another trajectory path")
+    f = frames(result, fps)
     t = result.throw
     about = (f"jaxskip trajectory {os.path.basename(path)}: {result.stone_name} stone of {result.mass * 1e3:.1f} g "
              f"in its body frame (centre of mass, principal axes); speed {float(t.speed):g} m/s, tilt "

@@ -20,6 +20,7 @@ class NotebookRun:
     """How a notebook runs: ``quick`` (``JAXSKIP_QUICK=1``, for CI) or full, where figures go."""
 
     name: str
+    """The notebook's name, as given to :func:`notebook_mode` (e.g. ``"magic_angle"``, the file's stem)."""
     quick: bool
     """True in quick mode (small batches, few points)."""
     out: str

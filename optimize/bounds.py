@@ -131,14 +131,29 @@ class Box:
         return Throw.from_degrees(speed=full["speed"], tilt=full["tilt"], attack=full["attack"], spin=full["spin"])
 
     def to_dict(self) -> dict:
+        """The box as a JSON-ready dict, user units (m/s, deg, rev/s): ``{"searched": {name: [low, high]},
+        "held": {name: value}}``."""
         return {"searched": {n: [lo, hi] for n, lo, hi in self.searched}, "held": dict(self.held)}
 
 
 def make_box(searched=None, held=None) -> Box:
     """Validate a search box, in user units: speed [m/s], tilt and attack [deg], spin [rev/s].
 
-    ``searched``: {name: (low, high)} (default :data:`HUMAN_BOX`), each inside :data:`LIMITS`;
-    ``held``: {name: value} for the others (defaults: the default throw's values).
+    ``searched``: {name: (low, high)} with low < high (default :data:`HUMAN_BOX`: speed 3-12 m/s, tilt
+    5-45 deg, attack 0-30 deg, spin 0-20 rev/s); ``held``: {name: value} for the others (defaults: speed
+    8 m/s, tilt 20 deg, attack 5 deg, spin 20 rev/s). A name is one of :data:`PARAMETERS`, searched or
+    held, not both; at least one is searched. Every bound and value lies within :data:`LIMITS`:
+
+    ======  ===============  =====
+    name    range            unit
+    ======  ===============  =====
+    speed   [0.1, 50]        m/s
+    tilt    [-89, 89]        deg
+    attack  [0, 89]          deg
+    spin    [0, 200]         rev/s
+    ======  ===============  =====
+
+    Returns a :class:`Box`; anything else is refused with :class:`~jaxskip.ParameterError`.
 
     >>> make_box({"speed": (3.0, 12.0)}, {"tilt": 20.0}).searched
     (('speed', 3.0, 12.0),)

@@ -106,12 +106,27 @@ def distance(state, throw: Throw, stone: RigidStone):
 
 
 def make_objective(kind: str, config: SimConfig, stone: RigidStone, water: WaterParams, width: float = WIDTH):
-    """Return ``f(throw) -> ()`` to maximise: ``"bounces"`` (smooth count) or ``"distance"`` [m].
+    r"""Return ``f(throw) -> ()`` to maximise: ``"bounces"`` (smooth count) or ``"distance"`` [m].
 
-    Pure and differentiable; nothing per step is stored (``config.record`` is ignored).
+    ``kind``: ``"bounces"`` (:math:`\tilde N`, :func:`soft_bounce_rollout`, with the clearance
+    ``config.bounce_clearance`` [m]) or ``"distance"`` (:func:`distance` [m] of the final state).
+    ``config``: a :class:`jaxskip.SimConfig` (the rollout: ``dt``, ``max_steps``, attitude, ...);
+    ``stone``: a :class:`jaxskip.RigidStone` (:func:`jaxskip.rigid_stone`); ``water``: a
+    :class:`jaxskip.WaterParams` (:func:`jaxskip.water_params`). ``width`` [m], > 0: the soft
+    indicator's sigmoid width (default :data:`WIDTH`, 0.2 mm; the sharpening knob, see the module
+    docstring). Bad arguments raise :class:`~jaxskip.ParameterError` here, before any tracing.
+
+    ``f`` takes one :class:`jaxskip.Throw` (SI, shape ()) and returns a scalar (bounces [-] or
+    distance [m]); pure and differentiable, jit/vmap/grad-able; nothing per step is stored
+    (``config.record`` is ignored).
     """
     if kind not in ("bounces", "distance"):
         raise ParameterError(f"objective must be 'bounces' or 'distance', got {kind!r}")
+    for name, value, cls, hint in (("config", config, SimConfig, "jaxskip.SimConfig"),
+                                   ("stone", stone, RigidStone, "jaxskip.RigidStone (see jaxskip.rigid_stone)"),
+                                   ("water", water, WaterParams, "jaxskip.WaterParams (see jaxskip.water_params)")):
+        if not isinstance(value, cls):
+            raise ParameterError(f"{name} must be a {hint}, got {type(value).__name__}")
     _check_knobs(config.bounce_clearance, width)
     config = dataclasses.replace(config, record=False)
 

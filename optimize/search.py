@@ -86,6 +86,8 @@ class SearchResult:
     distance; :func:`gradient_search` and :func:`local_search` with ``objective="distance"``)."""
 
     def to_dict(self) -> dict:
+        """The result as a JSON-ready dict (``jaxskip optimize --json``), user units (m/s, deg, rev/s; times
+        [s], distances [m]): every field by its name, ``box`` as :meth:`optimize.bounds.Box.to_dict`."""
         return {"method": self.method, "objective": self.objective, "best": self.best,
                 "best_bounces": self.best_bounces, "best_distance": self.best_distance,
                 "history": self.history, "box": self.box.to_dict(), "wall_time": self.wall_time,
@@ -103,6 +105,20 @@ EXPLODING = 1e3
 #: Raw gradient norm below which :func:`gradient_health` calls a gradient vanishing: the smooth
 #: count is flat there (typically a throw that sinks at its first contact).
 VANISHING = 1e-6
+
+# Limits of the searches' counts (the checks and ``jaxskip optimize --help`` use these).
+#: Most random starts of :func:`gradient_search` and :func:`perturbation_search`.
+MAX_STARTS = 4096
+#: Most iterations of :func:`gradient_search` and :func:`perturbation_search`.
+MAX_ITERATIONS = 100_000
+#: Most antithetic pairs per start and iteration of :func:`perturbation_search`.
+MAX_SAMPLES = 4096
+#: Most exact throws of :func:`random_search` and :func:`local_search`, and of a polish.
+MAX_THROWS = 100_000_000
+#: Most grid points per searched parameter of :func:`grid_search` (:func:`grid_points`).
+MAX_PER_AXIS = 10_000
+#: Most grid points in all of :func:`grid_search` (:func:`grid_points`).
+MAX_GRID_POINTS = 100_000_000
 
 
 def gradient_health(result: SearchResult) -> dict | None:
@@ -238,27 +254,34 @@ def gradient_search(box: Box | None = None, *, objective: str = "bounces", stone
     :data:`optimize.HUMAN_BOX` ({name: (low, high)} searched, {name: value} held; default: the human
     box, :data:`optimize.bounds.HUMAN_BOX`). ``objective``
     (``"bounces"``: the smooth count; ``"distance"`` [m]), ``starts`` random starting throws
-    (seeded), ``iterations`` Adam steps of ``learning_rate`` in the unconstrained coordinates,
-    gradients clipped to global norm ``clip`` per start; a non-finite gradient is replaced by
-    zero (and counted in the history). ``width`` [m]: the surrogate's sharpness knob.
+    (seeded; an integer in [1, 4096], :data:`MAX_STARTS`), ``iterations`` Adam steps (an integer in
+    [1, 10^5], :data:`MAX_ITERATIONS`) of ``learning_rate`` (> 0, in the unconstrained, dimensionless
+    coordinates of the box), gradients clipped to global norm ``clip`` (> 0, same coordinates) per
+    start; a non-finite gradient is replaced by zero (and counted in the history). ``width`` [m], > 0:
+    the surrogate's sharpness knob (:mod:`optimize.objectives`).
     ``initial``: a throw to start from, {parameter: value} in user units for every searched
     parameter (inside the box), and no other (a held parameter is refused, not dropped); it
     replaces the first random start. ``seed``: an integer >= 0 (the random starts).
-    ``polish``: exact throws spent after the ascent by :func:`local_search` around the (up to 4)
-    best distinct throws the ascent visited, each parameter perturbed by ``polish_scale`` times
-    its searched range (0: no polish). The history then ends with an entry of ``"phase":
-    "polish"``; every entry lists the throws it simulated under ``"points"`` (user units).
+    ``polish``: exact throws (an integer in [0, 10^8], :data:`MAX_THROWS`) spent after the ascent by
+    :func:`local_search` around the (up to 4) best distinct throws the ascent visited, each parameter
+    perturbed by ``polish_scale`` (in (0, 1] [-]) times its searched range (0 throws: no polish). The
+    history then ends with an entry of ``"phase": "polish"``; every entry lists the throws it simulated
+    under ``"points"`` (user units).
     With ``objective="distance"`` the best throw is the one with the longest true distance (the
     history then also lists each start's true distance [m] under ``"distance"``).
     Every iteration's history entry records each start's raw gradient norm (``"grad_norm"``,
     unconstrained coordinates, before clipping; ``None`` where non-finite): see
     :func:`gradient_health` and :data:`EXPLODING`.
-    ``horizon``: steps of the rollout the surrogate is differentiated through (default: all of
-    ``config.max_steps``). A short horizon (e.g. 1200 steps, 0.3 s of contacts) is truncated
-    backpropagation: cheaper gradients (4 against 15 ms, measured) that see only the first
-    bounces, over fewer e-foldings of the rollout's chaos (its gradients' tail still reaches
-    ~1e5 at 1200 steps); true counts always use the whole rollout.
+    ``horizon``: steps of the rollout the surrogate is differentiated through, an integer in
+    [1, ``config.max_steps``] (default None: all of ``config.max_steps``). A short horizon (e.g.
+    1200 steps, 0.3 s of contacts) is truncated backpropagation: cheaper gradients (4 against 15 ms,
+    measured) that see only the first bounces, over fewer e-foldings of the rollout's chaos (its
+    gradients' tail still reaches ~1e5 at 1200 steps); true counts always use the whole rollout.
     ``water``: the water's constants (:func:`jaxskip.water_params`; default: the force law's).
+    ``stone``: a built-in name (default ``"paper"``), an ``.obj`` path [m], a :class:`jaxskip.TriMesh`
+    or a :class:`jaxskip.RigidStone` (:func:`jaxskip.resolve_stone`). ``config``: the
+    :class:`jaxskip.SimConfig` of every rollout (default ``SimConfig()``; its ``record`` is ignored).
+    ``progress``: True or False: print a progress line to stderr.
 
     Returns a :class:`SearchResult` (user units: m/s, deg, rev/s): ``best`` the best throw found,
     {parameter: value} for all four parameters; ``best_bounces`` its true bounce count and
@@ -276,9 +299,9 @@ def gradient_search(box: Box | None = None, *, objective: str = "bounces", stone
     seed = _check_seed(seed)
     if initial is not None:
         initial = _check_initial(box, initial)
-    starts = check_int("starts", starts, minimum=1, maximum=4096)
-    iterations = check_int("iterations", iterations, minimum=1, maximum=100_000)
-    polish = check_int("polish", polish, minimum=0, maximum=100_000_000)
+    starts = check_int("starts", starts, minimum=1, maximum=MAX_STARTS)
+    iterations = check_int("iterations", iterations, minimum=1, maximum=MAX_ITERATIONS)
+    polish = check_int("polish", polish, minimum=0, maximum=MAX_THROWS)
     check_range("polish_scale", polish_scale, 0.0, 1.0, low_open=True)
     check_positive("learning_rate", learning_rate)
     check_positive("clip", clip)
@@ -403,8 +426,13 @@ def local_search(box: Box, centres: dict, *, throws: int = 256, scale: float = 0
 
     ``centres``: {parameter: (m,) array} in user units, one entry per searched parameter of
     ``box`` (e.g. :func:`top_throws` of a gradient search). Throw ``i`` perturbs centre
-    ``i mod m``: each searched parameter by a normal deviate of ``scale`` times its range
-    (0.03: ±0.27 m/s, ±1.2°, ±0.9°, ±0.6 rev/s in the human box), clipped to the box.
+    ``i mod m``: each searched parameter by a normal deviate of ``scale`` (in (0, 1] [-]) times its
+    range (0.03: ±0.27 m/s, ±1.2°, ±0.9°, ±0.6 rev/s in the human box), clipped to the box.
+    ``throws``: an integer in [1, 10^8] (:data:`MAX_THROWS`). ``seed`` and ``water`` as in
+    :func:`gradient_search`; ``stone``, ``config``, ``lanes`` and ``progress`` as in
+    :func:`grid_search` (``stone``: name, ``.obj`` path, mesh or :class:`jaxskip.RigidStone`;
+    ``config``: a :class:`jaxskip.SimConfig`; ``lanes``: throws side by side, in [1, 10^6], default
+    :func:`jaxskip.batch.default_lanes`; ``progress``: True or False, a progress line on stderr).
 
     Returns a :class:`SearchResult` (user units: m/s, deg, rev/s; fields as for :func:`gradient_search`):
     ``best`` the best throw, ``best_bounces`` its true count, ``best_distance`` its true distance [m],
@@ -421,7 +449,7 @@ def local_search(box: Box, centres: dict, *, throws: int = 256, scale: float = 0
     box, config, progress = _common(box, config, progress)
     objective = _check_objective(objective)
     seed = _check_seed(seed)
-    n = check_int("throws", throws, minimum=1, maximum=100_000_000)
+    n = check_int("throws", throws, minimum=1, maximum=MAX_THROWS)
     check_range("scale", scale, 0.0, 1.0, low_open=True)
     m = None
     for name, lo, hi in box.searched:
@@ -475,15 +503,19 @@ def perturbation_search(box: Box | None = None, *, stone="paper", config: SimCon
 
     The gradient of the smoothed exact count at ``u`` (unconstrained coordinates) is
     :math:`\frac{1}{2\sigma m}\sum_k [N(u+\sigma\epsilon_k) - N(u-\sigma\epsilon_k)]\,\epsilon_k`
-    over ``samples`` = m pairs, :math:`\epsilon_k` standard normal; ``sigma`` is the smoothing
-    scale in the unconstrained (logit) coordinates of the box (dimensionless: 0.3 moves a parameter
-    at the middle of its range by ~7 % of the range); every count is an exact simulation. Nothing is differentiated,
+    over ``samples`` = m pairs (an integer in [1, 4096], :data:`MAX_SAMPLES`), :math:`\epsilon_k`
+    standard normal; ``sigma`` (> 0) is the smoothing scale in the unconstrained (logit) coordinates
+    of the box (dimensionless: 0.3 moves a parameter at the middle of its range by ~7 % of the range);
+    every count is an exact simulation. Nothing is differentiated,
     so the rollout's chaos (its pathwise gradients grow e-fold every ~40-50 ms of contact,
     benchmarks/README.md) does not reach the estimate: it is the estimator a chaotic count calls
-    for. ``polish``/``polish_scale`` as in :func:`gradient_search`: exact throws near the best
-    (up to 4) distinct throws evaluated, centres and samples alike. Every history entry lists the
-    centres it simulated under ``"points"`` (their counts under ``"bounces"``). ``box``, ``seed`` and
-    ``water`` as in :func:`gradient_search`.
+    for. ``starts`` random centres (an integer in [1, 4096]) each take ``iterations`` Adam steps (an
+    integer in [1, 10^5]) of ``learning_rate`` (> 0, unconstrained coordinates).
+    ``polish`` (an integer in [0, 10^8]) / ``polish_scale`` (in (0, 1] [-]) as in
+    :func:`gradient_search`: exact throws near the best (up to 4) distinct throws evaluated, centres
+    and samples alike. Every history entry lists the centres it simulated under ``"points"`` (their
+    counts under ``"bounces"``). ``box``, ``seed``, ``water``, ``stone``, ``config`` and ``progress``
+    as in :func:`gradient_search`. Each iteration simulates ``starts * (2 * samples + 1)`` throws.
 
     Returns a :class:`SearchResult` (user units: m/s, deg, rev/s; fields as for :func:`gradient_search`):
     ``best`` the best throw, ``best_bounces`` its true count, ``best_distance`` its true distance [m],
@@ -495,10 +527,10 @@ def perturbation_search(box: Box | None = None, *, stone="paper", config: SimCon
     t0 = time.perf_counter()
     box, config, progress = _common(box, config, progress)
     seed = _check_seed(seed)
-    starts = check_int("starts", starts, minimum=1, maximum=4096)
-    iterations = check_int("iterations", iterations, minimum=1, maximum=100_000)
-    samples = check_int("samples", samples, minimum=1, maximum=4096)
-    polish = check_int("polish", polish, minimum=0, maximum=100_000_000)
+    starts = check_int("starts", starts, minimum=1, maximum=MAX_STARTS)
+    iterations = check_int("iterations", iterations, minimum=1, maximum=MAX_ITERATIONS)
+    samples = check_int("samples", samples, minimum=1, maximum=MAX_SAMPLES)
+    polish = check_int("polish", polish, minimum=0, maximum=MAX_THROWS)
     check_range("polish_scale", polish_scale, 0.0, 1.0, low_open=True)
     check_positive("sigma", sigma)
     check_positive("learning_rate", learning_rate)
@@ -543,9 +575,9 @@ def grid_points(box: Box, per_axis: int) -> dict:
     """A regular grid with ``per_axis`` points along every searched parameter (user units); at most
     10^8 points in all."""
     box = _as_box(box)
-    per_axis = check_int("per_axis", per_axis, minimum=2, maximum=10_000)
-    if per_axis ** len(box.searched) > 100_000_000:
-        top = int(100_000_000 ** (1.0 / len(box.searched)) + 1e-9)
+    per_axis = check_int("per_axis", per_axis, minimum=2, maximum=MAX_PER_AXIS)
+    if per_axis ** len(box.searched) > MAX_GRID_POINTS:
+        top = int(MAX_GRID_POINTS ** (1.0 / len(box.searched)) + 1e-9)
         raise ParameterError(f"per_axis must be at most {top} for {len(box.searched)} searched parameters "
                              f"(at most 10^8 grid points), got {per_axis}")
     axes = [np.linspace(lo, hi, per_axis) for _, lo, hi in box.searched]
@@ -567,13 +599,28 @@ def _exhaustive(method: str, box: Box, values: dict, stone, config: SimConfig, l
 
 def grid_search(box: Box | None = None, *, per_axis: int = 10, stone="paper", config: SimConfig | None = None,
                 lanes: int | None = None, water: WaterParams | None = None, progress: bool = False) -> SearchResult:
-    """Exhaustive search: every point of a regular grid simulated exactly (``per_axis`` ** P throws);
-    ``box`` and ``water`` as in :func:`gradient_search`.
+    """Exhaustive search: every point of a regular grid simulated exactly (``per_axis`` ** P throws for
+    P searched parameters, :func:`grid_points`).
+
+    ``per_axis``: grid points along each searched parameter, its ends included, an integer in
+    [2, 10^4] (:data:`MAX_PER_AXIS`), with at most 10^8 points in all (:data:`MAX_GRID_POINTS`).
+    ``box`` and ``water`` as in :func:`gradient_search`. ``stone``: a built-in name (default
+    ``"paper"``), an ``.obj`` path [m], a :class:`jaxskip.TriMesh` or a :class:`jaxskip.RigidStone`.
+    ``config``: the :class:`jaxskip.SimConfig` of every throw (default ``SimConfig()``; its ``record``
+    is ignored). ``lanes``: throws simulated side by side, an integer in [1, 10^6] (default None:
+    :func:`jaxskip.batch.default_lanes`; :func:`jaxskip.simulate_batch`). ``progress``: True or False:
+    print a progress line to stderr.
 
     Returns a :class:`SearchResult` (user units: m/s, deg, rev/s; fields as for :func:`gradient_search`):
     ``best`` the best throw, ``best_bounces`` its true count, ``best_distance`` its true distance [m],
     ``forward_throws`` the exact simulations run, ``wall_time`` [s]; ``history`` holds one entry, with
     the histogram of the counts (``"count_histogram"``).
+
+    >>> from optimize import make_box
+    >>> box = make_box({"speed": (6.0, 8.0)}, {"tilt": 20.0, "attack": 5.0, "spin": 20.0})
+    >>> r = grid_search(box, per_axis=4)  # speeds 6, 6.67, 7.33, 8 m/s
+    >>> r.forward_throws, sum(r.history[0]["count_histogram"]), bool(r.best["speed"] in grid_points(box, 4)["speed"])
+    (4, 4, True)
     """
     box, config, progress = _common(box, config, progress)
     return _exhaustive("grid", box, grid_points(box, per_axis), stone, config, lanes, progress, water)
@@ -582,16 +629,27 @@ def grid_search(box: Box | None = None, *, per_axis: int = 10, stone="paper", co
 def random_search(box: Box | None = None, *, throws: int = 1000, stone="paper", config: SimConfig | None = None,
                   lanes: int | None = None, seed: int = 0, water: WaterParams | None = None,
                   progress: bool = False) -> SearchResult:
-    """Random search: ``throws`` uniform random points of the box simulated exactly; ``box``, ``seed``
-    and ``water`` as in :func:`gradient_search`.
+    """Random search: ``throws`` uniform random points of the box simulated exactly.
+
+    ``throws``: an integer in [1, 10^8] (:data:`MAX_THROWS`). ``box``, ``seed`` and ``water`` as in
+    :func:`gradient_search`; ``stone``, ``config``, ``lanes`` and ``progress`` as in
+    :func:`grid_search` (``stone``: name, ``.obj`` path, mesh or :class:`jaxskip.RigidStone`;
+    ``config``: a :class:`jaxskip.SimConfig`; ``lanes``: throws side by side, in [1, 10^6], default
+    :func:`jaxskip.batch.default_lanes`; ``progress``: True or False, a progress line on stderr).
 
     Returns a :class:`SearchResult` (user units: m/s, deg, rev/s; fields as for :func:`gradient_search`):
     ``best`` the best throw, ``best_bounces`` its true count, ``best_distance`` its true distance [m],
     ``forward_throws`` the exact simulations run, ``wall_time`` [s]; ``history`` holds one entry, with
     the histogram of the counts (``"count_histogram"``).
+
+    >>> from optimize import make_box
+    >>> box = make_box({"speed": (6.0, 8.0)}, {"tilt": 20.0, "attack": 5.0, "spin": 20.0})
+    >>> r = random_search(box, throws=4, seed=1)
+    >>> r.forward_throws, 6.0 <= r.best["speed"] <= 8.0, r.best["tilt"]
+    (4, True, 20.0)
     """
     box, config, progress = _common(box, config, progress)
-    n = check_int("throws", throws, minimum=1, maximum=100_000_000)
+    n = check_int("throws", throws, minimum=1, maximum=MAX_THROWS)
     seed = _check_seed(seed)
     return _exhaustive("random", box, _random_points(box, n, np.random.default_rng(seed)), stone, config, lanes,
                        progress, water)
@@ -778,7 +836,14 @@ def plot_search(result: SearchResult, path) -> None:
     so far per iteration, the polish's throws at the tick "polish"; for a gradient search, a second
     panel with every start's raw gradient norm per iteration (log scale, :data:`EXPLODING` and
     :data:`VANISHING` marked): gradient-norm monitoring at a glance. A grid, random or local search:
-    the histogram of the true bounce counts of every throw evaluated, the best count marked."""
+    the histogram of the true bounce counts of every throw evaluated, the best count marked.
+
+    ``result``: a :class:`SearchResult` (of :func:`gradient_search`, :func:`perturbation_search`,
+    :func:`grid_search`, :func:`random_search` or :func:`local_search`); anything else is refused with
+    :class:`~jaxskip.ParameterError`."""
+    if not isinstance(result, SearchResult):
+        raise ParameterError("result must be a SearchResult (as returned by gradient_search, perturbation_search, "
+                             f"grid_search, random_search or local_search), got {type(result).__name__}")
     _search_figure(result).savefig(path, dpi=120)
 
 

@@ -38,8 +38,10 @@ import csv
 import dataclasses
 import json
 import math
+import numbers
 import os
 import sys
+from collections.abc import Iterable
 from pathlib import Path
 
 import numpy as np
@@ -60,6 +62,9 @@ REFERENCE = {"speed": 3.5, "spin": 65.0, "tilt": 20.0, "attack": 20.0}
 CHUNKS = 8
 #: A bounce-domain sweep's smallest default chunk [grid points]: smaller domains are one chunk.
 DOMAIN_CHUNK = 256
+#: Most bisection iterations of a U_min sweep (:func:`make_spec`'s ``iterations``; 2^-40 of the bracket is
+#: far below any speed that matters).
+MAX_BISECTIONS = 40
 #: The limits of every throw a sweep makes, user units: ``{name: (low, high, low_open, high_open, unit)}``. They
 #: are :meth:`jaxskip.Throw.from_degrees`' (speed up to :data:`jaxskip.throw.MAX_SPEED`, spin up to
 #: :data:`jaxskip.throw.MAX_SPIN_REVS`); :func:`make_spec` checks them and ``jaxskip sweep --help`` shows them
@@ -156,6 +161,8 @@ class SweepSpec:
     coefficients, ...), as ``jaxskip optimize --json`` reports it."""
 
     def to_dict(self) -> dict:
+        """The spec as a JSON-ready dict (what ``out_dir/spec.json`` holds): every field by its name, user
+        units (m/s, deg, rev/s; SI otherwise), tuples as lists."""
         return {k: (list(v) if isinstance(v, tuple) else v) for k, v in dataclasses.asdict(self).items()}
 
 
@@ -166,13 +173,31 @@ def make_spec(kind: str, *, tilts, attacks=(REFERENCE["attack"],), speed: float 
 
     Every throw of the sweep must lie within :meth:`jaxskip.Throw.from_degrees`' limits,
     :data:`THROW_LIMITS` (speed in (0, 100] m/s, tilt in (-90, 90) deg, attack in [-90, 90] deg, spin in
-    [-500, 500] rev/s). ``tilts``, ``attacks``: a number or a non-empty list of them [deg]. ``sim``: the
+    [-500, 500] rev/s).
+
+    ``kind``: ``"domain"`` (the bounce count of every (tilt, attack) pair at ``speed``) or ``"umin"``
+    (the minimal speed for a bounce at each tilt, by bisection). ``tilts``, ``attacks``: a number or a
+    non-empty list of them [deg] (``umin``: one attack). ``speed`` [m/s], in (0, 100]: the speed of a
+    ``domain`` sweep (default 3.5, Clanet's). ``speed_range``: ``(low, high)`` [m/s], 0 < low < high <=
+    100, the bracket a ``umin`` bisection starts from (default (0.5, 8)). ``iterations``: bisection
+    steps of a ``umin`` sweep, an integer in [1, 40] (:data:`MAX_BISECTIONS`); the answer is bracketed
+    to ``(high - low) / 2**iterations`` m/s. ``spin`` [rev/s], in [-500, 500]: every throw's spin
+    (default 65, Clanet's catapult). ``speed``, ``speed_range`` and ``iterations`` are checked for
+    either kind (and stored in the spec), used by the one kind only. ``stone``: a built-in name
+    (default ``"clanet"``, Clanet's aluminium disk) or an ``.obj`` path [m]. ``attitude``: ``"fixed"``
+    (default: the tilt held, Clanet's high-spin limit) or ``"free"`` (6-DoF). ``sim``: the
     other simulation settings of ``jaxskip throw``, named and defaulted as
     :data:`jaxskip.settings.SIM_DEFAULTS` (``mass``, ``density``, ``force_law``, ``c_lift``, ``c_friction``,
     ``velocity``, ``integrator``, ``dt``, ``duration``, ``max_steps``); the stone is loaded here and the
-    resolved configuration kept in the spec's ``config``. ``chunk_size``: work items per chunk file, tilts
-    (umin) or grid points (domain); default :func:`default_chunk_size` (about :data:`CHUNKS` chunks), so
-    that a default sweep resumes and shards.
+    resolved configuration kept in the spec's ``config``. ``chunk_size``: work items per chunk file, an
+    integer >= 1: tilts (umin) or grid points (domain); default :func:`default_chunk_size` (about
+    :data:`CHUNKS` chunks), so that a default sweep resumes and shards.
+
+    Returns a :class:`SweepSpec` (frozen; user units) for :func:`run_sweep`. Nothing is compiled here.
+
+    >>> spec = make_spec("umin", tilts=[10.0, 20.0, 30.0], iterations=4)
+    >>> spec.speed_range, spec.spin, spec.chunk_size, (spec.speed_range[1] - spec.speed_range[0]) / 2**4
+    ((0.5, 8.0), 65.0, 1, 0.46875)
     """
     if kind not in ("domain", "umin"):
         raise ParameterError(f"kind must be 'domain' or 'umin', got {kind!r}")
@@ -186,7 +211,7 @@ def make_spec(kind: str, *, tilts, attacks=(REFERENCE["attack"],), speed: float 
     lo, hi = check_interval("speed_range", speed_range, 0.0, MAX_SPEED, unit="m/s")
     if lo <= 0.0:
         raise ParameterError(f"speed_range must start above 0 m/s, got {lo}")
-    iterations = check_int("iterations", iterations, minimum=1, maximum=40)
+    iterations = check_int("iterations", iterations, minimum=1, maximum=MAX_BISECTIONS)
     # every speed, tilt, attack and spin the sweep throws: checked against THROW_LIMITS (what --help shows),
     # then as the throw checks them
     _check_throws("speed", speed)
@@ -301,6 +326,9 @@ def run_sweep(spec: SweepSpec, out_dir=None, *, shard_index: int = 0, num_shards
               progress: bool = False, _stop_after: int | None = None) -> dict | None:
     """Compute the sweep's chunks (those of this shard), resuming from ``out_dir``.
 
+    ``num_shards``: machines sharing the sweep, an integer >= 1 (> 1 needs ``out_dir``);
+    ``shard_index``: this machine's shard, an integer in [0, num_shards): it computes the chunks ``j``
+    with ``j % num_shards == shard_index``. ``progress``: True or False: progress lines on stderr.
     ``spec``: a :class:`SweepSpec` from :func:`make_spec`. ``out_dir``: the sweep's folder (None: keep
     nothing); it is created if missing, but its parent folder must exist (as ``jaxskip sweep --out``
     requires: a mistyped path is refused rather than built). A chunk file found there is checked
@@ -439,6 +467,39 @@ def _check_spec_file(out: Path, spec: SweepSpec) -> None:
         _write_atomic(path, text)
 
 
+def _samples(name: str, values, what: str, missing: bool) -> list:
+    """``values`` (a 1-D sequence of numbers; ``missing``: None allowed) as a list of floats (or None);
+    anything else (text, a number alone, nested lists, booleans) is refused naming ``name``."""
+    def bad():
+        return ParameterError(f"parabola_minimum: {name} must be a 1-D sequence of {what}, got {repr(values)[:80]}")
+
+    if isinstance(values, (str, bytes)) or not isinstance(values, Iterable):
+        raise bad()
+    try:
+        items = list(values)
+    except TypeError:  # a 0-d array
+        raise bad() from None
+    out = []
+    for v in items:
+        if v is None and missing:
+            out.append(None)
+            continue
+        if isinstance(v, numbers.Real) and not isinstance(v, bool):
+            v = float(v)
+        else:  # a 0-d array of a real type (NumPy, JAX); not text, booleans or nested sequences
+            try:
+                a = None if isinstance(v, (str, bytes)) else np.asarray(v)
+            except (TypeError, ValueError):
+                a = None
+            if a is None or a.ndim != 0 or a.dtype.kind not in "iuf":
+                raise bad()
+            v = float(a)
+        if not missing and not math.isfinite(v):
+            raise bad()
+        out.append(v)
+    return out
+
+
 def parabola_minimum(x, y):
     r"""Minimum of sampled values between the samples: ``(x*, y*)`` or ``(None, None)``.
 
@@ -460,11 +521,11 @@ def parabola_minimum(x, y):
     >>> round(x, 12), round(y, 12)
     (13.0, 1.0)
     """
-    x, y = list(x), list(y)
+    x = _samples("x", x, "finite real numbers (sample positions, e.g. tilts [deg])", missing=False)
+    y = _samples("y", y, "real numbers or None (missing)", missing=True)
     if len(x) != len(y):
         raise ParameterError(f"parabola_minimum: x and y must have the same length, got {len(x)} and {len(y)}")
-    pts = sorted(((float(a), None if b is None or not math.isfinite(b) else float(b)) for a, b in zip(x, y)),
-                 key=lambda p: p[0])
+    pts = sorted(((a, None if b is None or not math.isfinite(b) else b) for a, b in zip(x, y)), key=lambda p: p[0])
     pts = [p for k, p in enumerate(pts) if k == 0 or p[0] != pts[k - 1][0]]  # a repeated position: its first
     finite = [i for i, (_, v) in enumerate(pts) if v is not None]
     if not finite:
@@ -694,5 +755,23 @@ def _sweep_figure(result: dict):
 def plot_sweep(result: dict, path) -> None:
     """Save a picture of a sweep to ``path`` (PNG/PDF/SVG): U_min(tilt), each bisection's bracket
     ``(U - resolution, U]`` drawn as an error bar below its top U; or the bounce domain in the (tilt,
-    attack) plane."""
+    attack) plane.
+
+    ``result``: a sweep result dict as :func:`run_sweep` or :func:`merge` return it (or its
+    ``result.json``); anything else is refused with :class:`~jaxskip.ParameterError`."""
+    _check_sweep_result(result)
     _sweep_figure(result).savefig(path, dpi=120)
+
+
+def _check_sweep_result(result) -> None:
+    """Refuse what is not a sweep result dict: a ``"spec"`` dict of a known kind with the settings the
+    picture reads, and that kind's values (``"umin"`` or ``"bounces"``)."""
+    spec = result.get("spec") if isinstance(result, dict) else None
+    kind = spec.get("kind") if isinstance(spec, dict) else None
+    values = {"umin": "umin", "domain": "bounces"}.get(kind)
+    settings = ("tilts", "attacks", "spin", "stone", "attitude") + (
+        ("speed_range", "iterations") if kind == "umin" else ("speed",))
+    if values is None or values not in result or any(k not in spec for k in settings):
+        what = f"a dict with keys {list(result)[:8]}" if isinstance(result, dict) else type(result).__name__
+        raise ParameterError(f"result must be a sweep result dict as returned by run_sweep/merge (with its 'spec'), "
+                             f"got {what}")

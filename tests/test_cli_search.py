@@ -281,3 +281,41 @@ def test_umin_text_words_the_bisection_bracket(tmp_path, capsys):
     text = capsys.readouterr().out
     assert "tilt   20.0 deg: U_min <= 2.5 m/s (bounces at the bracket's low end)" in text
     assert "magic angle: 20 deg, U_min 2.50 m/s (it bounces at the bracket's low end: U_min <= 2.5 m/s" in text
+
+
+def test_count_flags_show_the_ranges_that_are_checked(capsys):
+    """Every count flag's help gives its valid range, from the constants the searches and sweeps check (not
+    copied by hand): a value just outside it is refused naming the flag."""
+    text = _help(["optimize"], capsys)
+    for shown in ("random starts, in [1, 4096] (default 8)", "optimiser steps, in [1, 10^5] (default 20)",
+                  "Adam step in the unconstrained coordinates [-], > 0 (default 0.3)",
+                  "after the ascent, in [0, 10^8] (default 256; 0: none)",
+                  "per start and iteration, in [1, 4096] (default 8)",
+                  "differentiated through, in [1, --max-steps] (default: the whole rollout)",
+                  "grid points per searched parameter, in [2, 10^4], at most 10^8 grid points in all (default 6)",
+                  "random throws, in [1, 10^8] (default 1000)"):
+        assert shown in text, shown
+    text = _help(["sweep", "umin"], capsys)
+    for shown in ("bisection steps, in [1, 40] (default 10)", "work items per chunk file, >= 1:",
+                  "this machine's shard, in [0, N-1] for --num-shards N (default 0; needs --out)",
+                  "machines sharing the sweep, >= 1 (default 1; needs --out)"):
+        assert shown in text, shown
+    from optimize.search import MAX_ITERATIONS, MAX_PER_AXIS, MAX_SAMPLES, MAX_STARTS, MAX_THROWS
+    from optimize.sweep import MAX_BISECTIONS
+
+    assert (MAX_STARTS, MAX_ITERATIONS, MAX_SAMPLES, MAX_THROWS, MAX_PER_AXIS, MAX_BISECTIONS) == (
+        4096, 10 ** 5, 4096, 10 ** 8, 10 ** 4, 40)
+    for argv, refused in (
+            (["optimize", "--starts", str(MAX_STARTS + 1)], f"--starts must be an integer in [1, {MAX_STARTS}]"),
+            (["optimize", "--iterations", str(MAX_ITERATIONS + 1)], "--iterations must be an integer in [1, 100000]"),
+            (["optimize", "--method", "perturbation", "--samples", "0"], "--samples must be an integer in [1, 4096]"),
+            (["optimize", "--method", "grid", "--per-axis", "1"], "--per-axis must be an integer in [2, 10000]"),
+            (["optimize", "--method", "random", "--throws", "0"], "--throws must be an integer in [1, 100000000]"),
+            (["optimize", "--learning-rate", "0"], "--learning-rate must be > 0"),
+            (["optimize", "--horizon", "5001", "--max-steps", "5000"], "--horizon must be an integer in [1, 5000]"),
+            (["sweep", "umin", "--iterations", str(MAX_BISECTIONS + 1)], "--iterations must be an integer in [1, 40]"),
+            (["sweep", "umin", "--chunk-size", "0"], "--chunk-size must be an integer >= 1"),
+            (["sweep", "umin", "--out", "x", "--num-shards", "2", "--shard-index", "2"],
+             "--shard-index must be an integer in [0, 1]")):
+        assert main(argv) == 2, argv
+        assert refused in capsys.readouterr().err, argv

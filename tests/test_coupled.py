@@ -7,8 +7,8 @@ import jax.numpy as jnp
 import numpy as np
 import pytest
 
-from jaxskip import OUTCOMES, SimConfig, Throw, rollout
-from jaxskip.coupled import Field, advance_field, default_window, rollout_coupled
+from jaxskip import OUTCOMES, ParameterError, SimConfig, Throw, rollout
+from jaxskip.coupled import Field, advance_field, default_window, initial_field, make_coupled_step, rollout_coupled
 from jaxskip.water import WaterGrid, make_water_step, still_water, total_volume
 
 SMALL = WaterGrid(shape=(24, 24), spacing=0.01, depth=0.02, boundary="sponge", sponge_width=4, clamp="smooth")
@@ -177,3 +177,34 @@ def test_in_contact_the_water_steps_every_four_stone_steps_in_float32():
     counts = result["intervals"]  # {stone steps per water interval: how many}
     assert result["contacts"] >= 3 and sum(counts.values()) >= 50, line
     assert set(counts) == {"4"}, line
+
+
+@pytest.mark.parametrize("two_way", ["no", "False", 0, None])
+def test_two_way_must_be_true_or_false(two_way):
+    """two_way="no" was taken as true (a non-empty string): now a ParameterError, before any tracing."""
+    with pytest.raises(ParameterError, match="two_way must be True or False"):
+        make_coupled_step(SimConfig(), SMALL, two_way=two_way)
+    make_coupled_step(SimConfig(), SMALL, two_way=np.bool_(False))  # NumPy's bool is a bool
+
+
+@pytest.mark.parametrize("position", [[np.nan, 0.0, 0.01], np.array([0.0, np.inf, 0.01]), [0.1], np.zeros(4),
+                                      np.zeros((1, 3)), "abc", None, [True, False, True], 0.1])
+def test_initial_field_checks_the_position(position):
+    """The window's centre must be 2 or 3 finite numbers [m]: NaN, a wrong shape or text is a ParameterError
+    (NaN and wrong shapes were accepted; a list raised AttributeError)."""
+    with pytest.raises(ParameterError, match=r"position must be 2 or 3 finite real numbers, \(x, y\[, z\]\) \[m\]"):
+        initial_field(SMALL, position)
+
+
+def test_initial_field_takes_two_or_three_numbers():
+    """A list, (x, y) or (x, y, z) places the window alike; a traced position of the wrong shape is refused."""
+    f3 = initial_field(SMALL, jnp.array([0.104, 0.08, 0.01]))
+    for position in ([0.104, 0.08, 0.01], (0.104, 0.08), np.array([0.104, 0.08])):
+        f = initial_field(SMALL, position)
+        np.testing.assert_array_equal(np.asarray(f.offset), np.asarray(f3.offset))
+    np.testing.assert_array_equal(np.asarray(f3.offset), [10 - 12, 8 - 12])
+    assert f3.water.height.dtype == f3.pending.dtype == jnp.zeros(3).dtype
+    np.testing.assert_array_equal(np.asarray(jax.jit(lambda p: initial_field(SMALL, p).offset)(jnp.zeros(3))),
+                                  [-12, -12])
+    with pytest.raises(ParameterError, match="got a traced .* array of shape \\(4,\\)"):
+        jax.jit(lambda p: initial_field(SMALL, p))(jnp.zeros(4))

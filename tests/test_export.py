@@ -144,3 +144,38 @@ def test_a_fixed_attitude_is_held_in_the_frames():
     assert np.all(np.abs(held.trajectory["orientation"] - q0) == 0.0)
     f = frames(held, fps=240.0)
     np.testing.assert_allclose(f["orientation"], np.broadcast_to(q0, f["orientation"].shape), atol=1e-15)
+
+
+def test_what_is_not_a_throw_result_is_refused(default_throw, tmp_path):
+    """frames, write_trajectory and body_mesh refuse a wrong type with a ParameterError naming it (they raised
+    AttributeError), and write_trajectory writes nothing."""
+    from jaxskip.export import body_mesh
+
+    for bad in ("x", {"rigid": None}, None):
+        with pytest.raises(ParameterError, match="result must be a jaxskip.ThrowResult"):
+            frames(bad)
+        with pytest.raises(ParameterError, match="result must be a jaxskip.ThrowResult"):
+            write_trajectory(bad, tmp_path / "t.csv")
+        with pytest.raises(ParameterError, match="stone must be a jaxskip.RigidStone"):
+            body_mesh(bad)
+    with pytest.raises(ParameterError, match="stone must be a jaxskip.RigidStone"):
+        body_mesh(default_throw)  # the result, not its stone (default_throw.rigid)
+    assert body_mesh(default_throw.rigid).n_triangles == default_throw.rigid.triangles.shape[0]
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_bad_trajectory_paths_are_refused_before_anything_is_written(default_throw, tmp_path):
+    """A path that is not a str/PathLike (a TypeError before), or a folder where the trajectory or its stone
+    file goes (an IsADirectoryError once the .stone.obj was already written): a ParameterError, nothing
+    written."""
+    for path in (42, b"t.csv", None):
+        with pytest.raises(ParameterError, match="path must be a str or os.PathLike ending in .csv or .json"):
+            write_trajectory(default_throw, path)
+    (tmp_path / "x.csv").mkdir()
+    with pytest.raises(ParameterError, match=r"path .*x\.csv' is a folder, not a file"):
+        write_trajectory(default_throw, tmp_path / "x.csv")
+    (tmp_path / "y.stone.obj").mkdir()
+    with pytest.raises(ParameterError, match=r"path's stone file .*y\.stone\.obj' is a folder, not a file"):
+        write_trajectory(default_throw, str(tmp_path / "y.json"))
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["x.csv", "y.stone.obj"]
+    assert not any((tmp_path / "x.csv").iterdir()) and not any((tmp_path / "y.stone.obj").iterdir())

@@ -301,3 +301,34 @@ def test_search_docstrings_say_what_they_return(search):
     for field in ("Returns a :class:`SearchResult`", "``best``", "``best_bounces``", "``best_distance``", "[m]",
                   "``forward_throws``", "``history``"):
         assert field in doc, field
+
+
+def test_make_objective_refuses_wrong_types(paper, water):
+    """A config, stone or water of the wrong type is a ParameterError naming it, before any tracing (config="x"
+    was a raw AttributeError; a wrong stone or water passed until the rollout was traced)."""
+    from optimize import make_objective
+
+    for kwargs, name in ((dict(config="x"), "config must be a jaxskip.SimConfig, got str"),
+                         (dict(stone="paper"), "stone must be a jaxskip.RigidStone"),
+                         (dict(water=None), "water must be a jaxskip.WaterParams")):
+        args = dict(config=SimConfig(), stone=paper, water=water) | kwargs
+        with pytest.raises(ParameterError, match=name):
+            make_objective("bounces", **args)
+
+
+def test_plot_search_refuses_what_is_not_a_search_result(tmp_path):
+    from optimize import plot_search
+
+    for result in ("x", {"best": {}}, None):
+        with pytest.raises(ParameterError, match="result must be a SearchResult"):
+            plot_search(result, tmp_path / "s.png")
+    assert not (tmp_path / "s.png").exists()
+
+
+def test_make_box_documents_the_limits_it_checks():
+    """make_box's docstring gives every parameter's LIMITS (the numbers its checks use) with its unit."""
+    from optimize.bounds import LIMITS
+
+    doc = make_box.__doc__
+    for name, (low, high, unit) in LIMITS.items():
+        assert f"{name:<8}[{low:g}, {high:g}]" in doc and unit in doc, name

@@ -341,3 +341,32 @@ def test_run_sweep_refuses_what_the_command_refuses(tmp_path):
     with pytest.raises(ParameterError, match="spec must be an optimize.SweepSpec .*got dict"):
         run_sweep({"kind": "umin"})
     assert run_sweep(spec, tmp_path / "new")["bounces"] and (tmp_path / "new" / "result.json").exists()
+
+
+@pytest.mark.parametrize("x, y, name", [
+    ("ab", "cd", "x"),                                   # text: was a raw ValueError from float('a')
+    (5.0, 6.0, "x"),                                     # a number alone: was a TypeError
+    ([5.0, 10.0, 15.0], "cde", "y"),
+    ([5.0, 10.0, 15.0], [[1.0, 2.0], [3.0, 4.0], [5.0, 6.0]], "y"),  # nested: was a TypeError
+    ([5.0, 10.0, 15.0], [True, False, True], "y"),       # booleans are not values (were taken as 1, 0)
+    ([5.0, float("nan"), 15.0], [2.0, 1.0, 2.0], "x"),   # a position must be finite (NaN broke the sort)
+    ([5.0, None, 15.0], [2.0, 1.0, 2.0], "x"),           # None marks a missing value, not a position
+])
+def test_parabola_minimum_refuses_what_is_not_samples(x, y, name):
+    """Non-numeric or mis-shaped samples are a ParameterError naming x or y (not a raw ValueError/TypeError);
+    NumPy and JAX arrays, tuples and None (missing) in y are still taken."""
+    with pytest.raises(ParameterError, match=rf"parabola_minimum: {name} must be a 1-D sequence of"):
+        parabola_minimum(x, y)
+    import jax.numpy as jnp
+
+    assert parabola_minimum(np.array([1.0, 2.0, 3.0]), jnp.array([1.0, 0.0, 1.0])) == (2.0, 0.0)
+    assert parabola_minimum((1, 2, 3, 4), [None, 1.0, 0.0, 1.0]) == (3.0, 0.0)
+
+
+@pytest.mark.parametrize("result", ["result.json", {}, {"spec": {"kind": "umin"}}, {"umin": [1.0]}])
+def test_plot_sweep_refuses_what_is_not_a_sweep_result(result, tmp_path):
+    from optimize import plot_sweep
+
+    with pytest.raises(ParameterError, match="result must be a sweep result dict as returned by run_sweep/merge"):
+        plot_sweep(result, tmp_path / "s.png")
+    assert not (tmp_path / "s.png").exists()
