@@ -291,7 +291,8 @@ def simulate(
     throw : :class:`Throw` (SI); default ``Throw.from_degrees()``.
     stone : built-in name (``paper``, ``disk``, ``clanet``, ``ellipsoid``, ``pebble``),
         a path to an ``.obj`` file [m], a :class:`TriMesh` or a :class:`RigidStone`.
-    mass, density : override the stone's default density with a mass [kg] or density [kg/m^3].
+    mass, density : override the stone's default density with a mass [kg] or a density [kg/m^3], in
+        [100, 25000] kg/m^3 (cork to osmium; a mass must give such a density over the mesh's volume).
     water : :class:`WaterParams`; default ``water_params(config.force.law)``.
     config : :class:`SimConfig`; default ``SimConfig()`` (a ``dt`` above 1 ms is valid but unconverged:
         an :class:`jaxskip.simulate.AccuracyWarning` says so).

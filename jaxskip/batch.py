@@ -57,6 +57,7 @@ class BatchResult:
     throws: Throw
     """The throws, shape (N,)."""
     config: SimConfig
+    """The :class:`jaxskip.SimConfig` every throw ran with (checked; ``record`` ignored)."""
     lanes: int
     """Lanes in the pool (throws advanced together)."""
     chunk: int
@@ -128,17 +129,17 @@ def simulate_batch(
     ----------
     throws : a :class:`Throw` with one batch axis, shape (N,) (e.g. ``Throw.from_degrees`` of arrays).
     stone, mass, density : as in :func:`jaxskip.simulate` (built-in name, ``.obj`` path, mesh or
-        :class:`RigidStone`; mass [kg] or density [kg/m^3]).
+        :class:`RigidStone`; mass [kg] or density [kg/m^3], the density in [100, 25000] kg/m^3).
     water : :class:`WaterParams`; default ``water_params(config.force.law)``.
     config : :class:`SimConfig` (its ``record`` is ignored: no trajectories are kept; a ``dt`` above 1 ms
         is valid but unconverged: an :class:`jaxskip.simulate.AccuracyWarning` says so).
-    lanes : throws advanced together (the vmapped batch); at most N, rounded up to a multiple of the
+    lanes : throws advanced together (the vmapped batch), an integer in [1, 10^6]; at most N, rounded up to a multiple of the
         device count (so a few idle lanes may ride along). Default
         (``None``): :func:`default_lanes` of N and the device count — about N/64 lanes per
         device, a power of two in [8, 256]. With several local JAX devices (``import jaxskip``
         makes one CPU device per core) the lanes are sharded over all of them
         (``jax.sharding``; a given count is rounded up to a multiple of the device count).
-    chunk : steps between refills; must divide ``config.max_steps`` (default: the divisor
+    chunk : steps between refills, an integer >= 1 that divides ``config.max_steps`` (default: the divisor
         nearest 250). Smaller wastes less on finished throws, larger costs fewer host round trips.
     progress : print a progress line to stderr.
 

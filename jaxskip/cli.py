@@ -86,7 +86,7 @@ def add_common(p, *, stone="paper", attitude="free", plot="write a picture (PNG/
     p.add_argument("--force-law", choices=("bocquet", "seed"), help="water force law (default bocquet)")
     for name in ("lift", "friction"):
         p.add_argument(f"--c-{name}", type=_float(f"--c-{name}"),
-                       help=f"{name} coefficient, in [0, {COEFFICIENT_MAX:g}] (default: the law's)")
+                       help=f"{name} coefficient [-], in [0, {COEFFICIENT_MAX:g}] (default: the law's)")
     p.add_argument("--velocity", choices=("body", "local"),
                    help="velocity the water sees: centre of mass (body, default) or each triangle's v + w x r")
     p.add_argument("--attitude", choices=("free", "fixed"),

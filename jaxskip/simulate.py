@@ -196,7 +196,11 @@ def steps_for(duration: float, dt: float, multiple: int = 250) -> int:
     check_positive("duration", duration, unit="s")
     check_positive("dt", dt, unit="s")
     check_int("multiple", multiple, minimum=1)
-    n = math.ceil(duration / dt - 1e-9) + 1
+    ratio = duration / dt
+    if not ratio < 1e15:   # (an infinite ratio raised a bare OverflowError; SimConfig takes at most 10^7 steps)
+        raise ParameterError(f"duration / dt must be a countable number of steps (< 1e15), "
+                             f"got {duration:g} s / {dt:g} s = {ratio:.3g}")
+    n = math.ceil(ratio - 1e-9) + 1
     return int(multiple * math.ceil(n / multiple))
 
 

@@ -271,7 +271,7 @@ def test_errors_name_the_flags_given(args, needle):
 def test_help_gives_the_ranges_and_the_table_has_no_nan():
     text = run("throw", "--help").stdout
     for needle in ("speed [m/s], in (0, 100]", "[m], in [0, 100]", "counter-clockwise from +x",
-                   "density [kg/m^3], in [100, 25000]", "lift coefficient, in [0, 10]"):
+                   "density [kg/m^3], in [100, 25000]", "lift coefficient [-], in [0, 10]"):
         assert needle in " ".join(text.split()), needle
     # a throw that ends in the water: its last contact has no exit tilt, said in words rather than "nan"
     p = run("throw", "--speed", "2", "--attack", "20")
