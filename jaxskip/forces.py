@@ -157,6 +157,14 @@ def water_params(
         ``c_lift`` = 1e3 the default throw flips at 0.36 m, at 1e20 it flies 7e11 m.
     rho_water : water density [kg/m^3], in (0, 20000].
     gravity : gravitational acceleration [m/s^2], in (0, 100].
+
+    Returns a :class:`WaterParams` (a pytree of scalars: traced, so a new value does not recompile).
+
+    >>> w = water_params()                                  # Bocquet's law, calibrated
+    >>> float(w.c_lift), round(float(w.c_friction), 3), float(w.rho_water)
+    (1.0, 0.3, 1000.0)
+    >>> float(water_params("bocquet", c_friction=0.1, rho_water=1025.0).rho_water)   # sea water
+    1025.0
     """
     check_choice("law", law, LAWS)
     defaults = DEFAULT_COEFFICIENTS[law]

@@ -76,6 +76,13 @@ class Throw:
 
         Each argument may be a scalar or an array; they are broadcast together, so
         ``Throw.create(tilt=np.linspace(0.1, 0.8, 64))`` is a batch of 64 throws for ``vmap``.
+
+        >>> import math, numpy as np
+        >>> t = Throw.create(speed=8.0, tilt=math.radians(20.0), spin=2 * math.pi * 20.0)   # 20 rev/s
+        >>> t.shape, round(float(t.spin), 2)
+        ((), 125.66)
+        >>> Throw.create(tilt=np.linspace(0.1, 0.8, 64)).shape
+        (64,)
         """
         fields = _checked(speed, tilt, attack, spin, height, heading)
         try:
