@@ -62,12 +62,11 @@ def test_fixed_attitude_gradient_of_a_whole_throw(paper, water):
 
 def test_checkpointed_gradients_equal_plain(paper, water):
     """Nested rematerialisation (default), no rematerialisation and any segment length (with a
-    remainder segment, one step per segment, or a segment longer than the rollout) give the same gradient."""
+    remainder segment, or one step per segment) give the same gradient."""
     plain = SimConfig(record=False, max_steps=300, duration=100.0, checkpoint=0, segment=300)
     base = Throw.from_degrees()
     # (the default, checkpoint=1 with segment=50, is differentiated against finite differences above)
-    configs = (plain, dataclasses.replace(plain, checkpoint=1, segment=7), dataclasses.replace(plain, segment=1),
-               dataclasses.replace(plain, segment=1000))  # longer than the rollout: capped
+    configs = (plain, dataclasses.replace(plain, checkpoint=1, segment=7), dataclasses.replace(plain, segment=1))
     grads = [jax.jit(jax.grad(lambda t, c=c: rollout(c, t, paper, water)[0].position[0]))(base) for c in configs]
     for g in grads[1:]:
         for name in FIELDS:
