@@ -12,6 +12,11 @@ import math
 import numbers
 
 
+#: NumPy dtype kinds that are not real numbers (bool, complex, bytes, text, timedelta, datetime): refused
+#: by :func:`_as_float` and :func:`check_array` (an object array is looked at element by element).
+NON_REAL_KINDS = "bcSUmM"
+
+
 class ParameterError(ValueError):
     """A parameter is outside its valid range (the message names it)."""
 
@@ -25,7 +30,7 @@ def _as_float(name: str, value, valid: str = "") -> float:
     """
     import numpy as np
 
-    if isinstance(value, (str, bytes, bool, np.bool_)) or getattr(getattr(value, "dtype", None), "kind", "f") in "bcSUOmM":
+    if isinstance(value, (str, bytes, bool, np.bool_)) or getattr(getattr(value, "dtype", None), "kind", "f") in NON_REAL_KINDS + "O":
         raise ParameterError(f"{name} must be a real number{(' ' + valid) if valid else ''}, got {value!r}")
     if not isinstance(value, numbers.Real):
         try:
@@ -119,7 +124,7 @@ def check_array(name: str, value, low: float, high: float, *, unit: str = "", lo
         raw = np.asarray(value)
         # Real numbers of any type (ints, floats, bfloat16, Decimal, Fraction); not bools, complex numbers,
         # None or strings, which NumPy would turn into numbers (or NaN) without a word.
-        if raw.dtype.kind in "bcSUmM" or (raw.dtype.kind == "O" and not all(
+        if raw.dtype.kind in NON_REAL_KINDS or (raw.dtype.kind == "O" and not all(
                 isinstance(v, (numbers.Real, decimal.Decimal)) and not isinstance(v, bool) for v in raw.flat)):
             raise TypeError
         arr = np.asarray(raw, dtype=np.float64)
