@@ -110,7 +110,7 @@ def add_parsers(sub, ranges: bool = True) -> None:
         "a domain chunk holds at least 256 grid points), each written to --out as it finishes: re-running resumes "
         "there, and --shard-index/--num-shards split the chunks between machines."))
     s.add_argument("kind", choices=KINDS + ("merge",))
-    s.add_argument("folders", nargs="*", metavar="FOLDER", help="(merge) the shards' --out folders")
+    s.add_argument("folders", nargs="*", default=[], metavar="FOLDER", help="(merge) the shards' --out folders")
     _only(s, SWEEP_FLAGS, "--tilts", f"tilts, each in {limit_text('tilt')}: N values from A to B, or a "
           "comma list (default 5:60:12)", metavar="A:B:N|A,B,...")
     _only(s, SWEEP_FLAGS, "--attacks", f"attack angles, each in {limit_text('attack')}: as --tilts "

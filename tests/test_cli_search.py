@@ -65,6 +65,15 @@ def test_bad_input_exits_2(argv, word, capsys):
     assert word in err and "Traceback" not in err and err.count("\n") == 1
 
 
+def test_bare_sweep_asks_for_the_kind_only(capsys):
+    """argparse's own error (exit 2, one line): ``sweep`` needs a kind; FOLDER is only merge's."""
+    with pytest.raises(SystemExit) as e:
+        main(["sweep"])
+    err = capsys.readouterr().err
+    assert e.value.code == 2 and err.count("\n") == 1
+    assert "the following arguments are required: kind (see 'jaxskip sweep --help')" in err, err
+
+
 def test_no_traceback_from_the_command():
     p = subprocess.run([sys.executable, "-m", "jaxskip", "optimize", "--speed-range", "3", "3"], capture_output=True,
                        text=True, cwd=ROOT, timeout=120)
