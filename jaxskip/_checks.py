@@ -18,7 +18,9 @@ NON_REAL_KINDS = "bcSUmM"
 
 
 class ParameterError(ValueError):
-    """A parameter is outside its valid range (the message names it)."""
+    """A parameter is invalid: outside its valid range, not one of its choices, or of the wrong type or shape
+    (e.g. a string for a number, a batch of throws where one is expected); the message names it. A
+    :class:`ValueError`, so ``except ValueError`` catches it too."""
 
 
 def _as_float(name: str, value, valid: str = "") -> float:

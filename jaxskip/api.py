@@ -3,7 +3,7 @@
 :func:`simulate` validates everything before any tracing, runs the compiled
 step in chunks (stopping as soon as the stone is out of play, so a short throw
 costs only its own steps), and returns a :class:`ThrowResult` of host values.
-For batches and gradients use the pure :func:`jaxskip.simulate.rollout`.
+For batches and gradients use the pure :func:`jaxskip.rollout`.
 """
 
 from __future__ import annotations
@@ -89,8 +89,9 @@ class ThrowResult:
     """Per-step arrays, the state at the start of each step: ``time`` (N,) [s], ``position`` (N, 3) [m]
     (centre of mass), ``orientation`` (N, 4) [-] (unit quaternion (w, x, y, z), body to world),
     ``velocity`` (N, 3) [m/s], ``angular_velocity`` (N, 3) [rad/s] (world frame), ``wetted_area``
-    (N,) [m^2], ``force`` (N, 3) [N] (water force on the stone). Steps are not evenly spaced
-    (fine in contact, long jumps in flight): :func:`jaxskip.export.frames` resamples them."""
+    (N,) [m^2], ``force`` (N, 3) [N] (water force on the stone, world frame, gravity not included;
+    :attr:`jaxskip.Record.force`). Steps are not evenly spaced (fine in contact, long jumps in
+    flight): :func:`jaxskip.export.frames` resamples them."""
     throw: Throw
     """The throw simulated (SI, shape ())."""
     config: SimConfig
@@ -106,16 +107,21 @@ class ThrowResult:
     """Wall-clock time of the simulation, compile included [s]."""
     field: dict | None = None
     """With a height field (``simulate(water_field=...)``): ``shape`` (nx, ny), ``spacing`` [m],
-    ``depth`` [m], ``time_step`` [s] (the water's step, ``water_dt``), ``clamp``,
-    ``volume_change`` (relative change of the window's water volume over the run; the
-    window exchanges water with the lake at its sponge border, so it need not be 0) and
+    ``depth`` [m], ``time_step`` [s] (the water's step, ``water_dt``), ``clamp``, ``boundary``
+    (``"closed"`` or ``"sponge"``: the grid's :attr:`jaxskip.WaterGrid.boundary`), ``volume_change``
+    (relative change of the window's water volume over the run; the window exchanges water with
+    the lake at its sponge border, so it need not be 0) and
     ``frames``: list of snapshots ``(time [s], origin (2,) [m], height (nx, ny) [m],
     position (3,) [m], orientation (4,))``, one per chunk."""
     rigid: RigidStone | None = None
     """The stone simulated (mass properties and mesh in the body frame)."""
 
     def to_dict(self) -> dict:
-        """JSON-ready summary with the resolved parameters (user units alongside SI)."""
+        """JSON-ready summary with the resolved parameters, in SI (m, m/s, s, kg, kg/m^3, m/s^2) except the
+        throw's angles and spin in ``parameters``, which appear only in user units: ``tilt_deg``,
+        ``attack_deg``, ``heading_deg`` [deg] and ``spin_rev_s`` [rev/s] (no radian values there). Each of
+        ``contacts`` is :meth:`Contact.to_dict` (its tilts in rad and in degrees). ``water`` (only with a
+        height field): :attr:`field` without its ``frames``."""
         t = self.throw
         f = self.config.force
         return {
@@ -246,7 +252,7 @@ def _default_throw(x64: bool) -> Throw:
 
 def checked_config(config) -> SimConfig:
     """``config`` (None: ``SimConfig()``) after its type check; warns if its ``dt`` is coarse
-    (:class:`jaxskip.simulate.AccuracyWarning`)."""
+    (:class:`jaxskip.AccuracyWarning`)."""
     config = SimConfig() if config is None else config
     if not isinstance(config, SimConfig):
         raise ParameterError(f"config must be a jaxskip.SimConfig, got {type(config).__name__}")
@@ -288,16 +294,17 @@ def simulate(
 
     Parameters
     ----------
-    throw : :class:`Throw` (SI); default ``Throw.from_degrees()``.
+    throw : one :class:`Throw` (SI; every field a scalar, shape ``()``; checked with :meth:`Throw.check`);
+        default ``Throw.from_degrees()``. A batch is refused: use :func:`jaxskip.simulate_batch`.
     stone : built-in name (``paper``, ``disk``, ``clanet``, ``ellipsoid``, ``pebble``),
         a path to an ``.obj`` file [m], a :class:`TriMesh` or a :class:`RigidStone`.
     mass, density : override the stone's default density with a mass [kg] or a density [kg/m^3], in
         [100, 25000] kg/m^3 (cork to osmium; a mass must give such a density over the mesh's volume).
     water : :class:`WaterParams`; default ``water_params(config.force.law)``.
     config : :class:`SimConfig`; default ``SimConfig()`` (a ``dt`` above 1 ms is valid but unconverged:
-        an :class:`jaxskip.simulate.AccuracyWarning` says so).
-    chunk : steps per compiled chunk; the run stops after the first chunk in
-        which the stone goes out of play.
+        an :class:`jaxskip.AccuracyWarning` says so).
+    chunk : steps per compiled chunk, an integer >= 1 (default 1000; capped at ``config.max_steps``);
+        the run stops after the first chunk in which the stone goes out of play.
     progress : print a progress line to stderr.
     water_field : a :class:`jaxskip.water.WaterGrid` (e.g. :func:`jaxskip.coupled.default_window`):
         two-way coupled water in a window that follows the stone (:mod:`jaxskip.coupled`);

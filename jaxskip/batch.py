@@ -11,7 +11,7 @@ the next throws. Each throw still runs exactly the steps it would run alone
 ``max_steps``), so the results equal ``vmap(rollout)``'s; only the idle work is
 gone. One compile per ``(config, lanes, chunk)``, memoised.
 
-For gradients use :func:`jaxskip.simulate.rollout` under ``jax.vmap``: this
+For gradients use :func:`jaxskip.rollout` under ``jax.vmap``: this
 driver is a host loop.
 """
 
@@ -45,7 +45,7 @@ class BatchResult:
     n_contacts: np.ndarray
     """(N,) int: contacts begun."""
     outcome: np.ndarray
-    """(N,) int: index into :data:`jaxskip.simulate.OUTCOMES` (see :attr:`outcome_names`)."""
+    """(N,) int: index into :data:`jaxskip.OUTCOMES` (see :attr:`outcome_names`)."""
     distance: np.ndarray
     """(N,) horizontal distance from release to where the stone ended [m]."""
     final_time: np.ndarray
@@ -132,7 +132,7 @@ def simulate_batch(
         :class:`RigidStone`; mass [kg] or density [kg/m^3], the density in [100, 25000] kg/m^3).
     water : :class:`WaterParams`; default ``water_params(config.force.law)``.
     config : :class:`SimConfig` (its ``record`` is ignored: no trajectories are kept; a ``dt`` above 1 ms
-        is valid but unconverged: an :class:`jaxskip.simulate.AccuracyWarning` says so).
+        is valid but unconverged: an :class:`jaxskip.AccuracyWarning` says so).
     lanes : throws advanced together (the vmapped batch), an integer in [1, 10^6]; at most N, rounded up to a multiple of the
         device count (so a few idle lanes may ride along). Default
         (``None``): :func:`default_lanes` of N and the device count — about N/64 lanes per

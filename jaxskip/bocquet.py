@@ -269,8 +269,9 @@ def reduced_throw(speed, tilt, attack, stone: ReducedStone | None = None, *, c_l
     stone : :class:`ReducedStone`; default Bocquet's 0.1 m, 0.1 kg square.
     c_lift, c_friction : C_l, C_f [-], in [0, 10] (Bocquet's example: 1, 1).
     rho : water density [kg/m^3], in (0, 20000]; ``g``: gravity [m/s^2], in (0, 100].
-    dt : contact time step [s] (> 0); ``contact_steps``: steps per contact before it counts as sunk
-        (``dt * contact_steps`` = 0.1 s by default); ``max_contacts``: contacts simulated (K).
+    dt : contact time step [s] (> 0); ``contact_steps``: steps per contact before it counts as sunk,
+        an integer in [1, 10^7] (``dt * contact_steps`` = 0.1 s by default); ``max_contacts``: contacts
+        simulated (K), an integer in [1, 10^5].
 
     ``speed``, ``tilt`` and ``attack`` are numbers or arrays; arrays broadcast together to a batch
     shape B, and every field of the :class:`ReducedResult` gets B as leading axes (``jax.vmap`` over

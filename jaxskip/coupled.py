@@ -168,7 +168,7 @@ def make_coupled_step(config: SimConfig, grid: WaterGrid, water_dt: float | None
     """Return the pure coupled step ``step(carry, stone, water) -> (carry, record)``.
 
     ``carry = (StoneState, Tracker, Field)``; ``record`` is the stone's
-    :class:`jaxskip.simulate.Record` (or None). ``grid.origin`` is ignored: the
+    :class:`jaxskip.Record` (or None). ``grid.origin`` is ignored: the
     window's origin is ``offset * grid.spacing``. ``water_dt`` [s], in (0, ``grid.time_step``]
     (the grid's water step, :func:`default_water_dt`): the water
     steps once the stone steps since its last step add up to this, to within half a

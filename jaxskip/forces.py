@@ -81,7 +81,8 @@ class ForceModel:
     normalize_lift: bool = True
     """Seed law only: lift magnitude ``∝ cos θ`` (True, as the paper states) or ``∝ cos² θ`` (eq. 2 as printed)."""
     sharpness: float | None = None
-    """``None``: exact clipping; a float κ [1/m]: smooth clipping with a ramp of width 1/κ."""
+    """``None``: exact clipping; a float κ [1/m], finite and > 0 (checked; no upper bound): smooth clipping
+    with a ramp of width 1/κ."""
 
     def __post_init__(self):
         check_choice("law", self.law, LAWS)

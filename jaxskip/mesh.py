@@ -217,8 +217,9 @@ def validate_mesh(vertices, faces, *, name: str = "mesh") -> None:
     Raises
     ------
     MeshError
-        On the first problem found, in this order: shapes/dtypes; non-finite
-        vertices; indices out of range; triangles with a repeated index;
+        On the first problem found, in this order: shapes/dtypes; fewer than
+        4 triangles (a closed mesh needs at least 4); non-finite vertices;
+        indices out of range; triangles with a repeated index;
         degenerate triangles (area ``<= 1e-12 * d**2`` with ``d`` the
         bounding-box diagonal); edges not shared by exactly two triangles
         (holes or non-manifold edges); inconsistent orientation (a directed
@@ -334,10 +335,11 @@ def mass_properties(mesh: TriMesh, *, density: float | None = None,
     mesh : TriMesh
         Closed, outward-oriented mesh (see :func:`validate_mesh`), vertices [m].
     density : float, optional
-        Uniform density rho [kg/m^3].
+        Uniform density rho [kg/m^3], finite and > 0.
     mass : float, optional
-        Total mass [kg]; then ``rho = mass / volume``.  Give exactly one of
-        ``density`` and ``mass``.
+        Total mass [kg], finite and > 0; then ``rho = mass / volume``.  Give
+        exactly one of ``density`` and ``mass``.  Either is checked only for
+        being finite and > 0 (no upper bound here); otherwise :class:`MeshError`.
 
     Returns
     -------
@@ -449,7 +451,7 @@ def read_obj(path: str | os.PathLike, *, name: str | None = None) -> TriMesh:
     Parameters
     ----------
     path : str or os.PathLike
-        File to read; at most 50 MB.  Coordinates are taken as metres.
+        File to read; at most 50 MiB (:data:`MAX_OBJ_BYTES`).  Coordinates are taken as metres.
     name : str, optional
         Mesh name; defaults to the file name without extension.
 
@@ -472,7 +474,7 @@ def read_obj(path: str | os.PathLike, *, name: str | None = None) -> TriMesh:
         raise MeshError(f"cannot read OBJ file {str(path)!r}: {err.strerror}") from None
     if size > MAX_OBJ_BYTES:
         raise MeshError(f"OBJ file {str(path)!r} is {size} bytes; at most {MAX_OBJ_BYTES} "
-                        "(50 MB) are accepted")
+                        "(50 MiB) are accepted")
     try:
         text = path.read_text(encoding="utf-8-sig")
     except (OSError, UnicodeDecodeError) as err:

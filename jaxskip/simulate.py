@@ -60,8 +60,13 @@ INTEGRATORS = ("euler", "rk4")
 ATTITUDES = ("free", "fixed")
 FLIGHTS = ("jump", "step")
 
-# Outcome codes of a rollout.
+#: Outcome codes of a rollout (:attr:`Tracker.outcome`), each an index into :data:`OUTCOMES`.
 RUNNING, SANK, STOPPED, FLIPPED, TIME_LIMIT, STEP_LIMIT = 0, 1, 2, 3, 4, 5
+#: The outcome names, indexed by outcome code: ``OUTCOMES[int(tracker.outcome)]``. ``"running"`` (0) only
+#: while the stone is in play; a finished rollout ends ``"sank"`` (no point above the water),
+#: ``"stopped"`` (slower than ``SimConfig.stop_speed`` in the water), ``"flipped"`` (face normal pointing
+#: down), ``"time_limit"`` (``SimConfig.duration`` reached) or ``"step_limit"`` (``SimConfig.max_steps``
+#: ran out first).
 OUTCOMES = ("running", "sank", "stopped", "flipped", "time_limit", "step_limit")
 
 # Contact phases.
@@ -92,9 +97,9 @@ class SimConfig:
     max_steps: int = 20250
     """Scan length: steps available for contacts and flights (outcome ``step_limit`` if too few).
     The default is :func:`steps_for` of the default ``duration`` and ``dt``: a stone may stay in the
-    water for the whole ``duration`` and still end by ``time_limit``, not ``step_limit`` (12000
-    until session 14 cut 0.2 % of the human box short: fast, flat throws planing for over 3 s).
-    Raise it with ``duration`` or a smaller ``dt`` (``steps_for`` gives the number). In [1, 10^7]."""
+    water for the whole ``duration`` and still end by ``time_limit``, not ``step_limit`` (fewer steps cut
+    short fast, flat throws that plane for over 3 s). Raise it with ``duration`` or a smaller ``dt``
+    (``steps_for`` gives the number). An integer in [1, 10^7]."""
     integrator: str = "euler"
     """``"euler"`` (semi-implicit, gravity exact) or ``"rk4"``."""
     attitude: str = "free"
@@ -188,7 +193,8 @@ def steps_for(duration: float, dt: float, multiple: int = 250) -> int:
     """Steps that let a stone spend ``duration`` [s] in the water at ``dt`` [s] and still end by
     ``time_limit``: ``ceil(duration / dt) + 1`` (the outcome is decided at the start of a step, so the
     step after the last one of ``duration`` is the one that ends it), rounded up to a multiple of
-    ``multiple`` (so that :func:`jaxskip.simulate_batch` finds a chunk of that size).
+    ``multiple``, an integer >= 1 (default 250, so that :func:`jaxskip.simulate_batch` finds a chunk of
+    that size). ``duration`` and ``dt`` must be > 0.
 
     >>> steps_for(5.0, 2.5e-4), steps_for(1.0, 1e-4)
     (20250, 10250)
@@ -349,18 +355,21 @@ class Tracker:
 @jax.tree_util.register_dataclass
 @dataclasses.dataclass(frozen=True)
 class Record:
-    """Per-step output of a rollout (one row per scan step; frozen rows repeat the last state)."""
+    """Per-step output of a rollout: one row per scan step, the state at the start of the step (world
+    frame). Shapes are one step's; a rollout's records add a leading step axis (T,). Rows of steps taken
+    out of play (frozen rows) repeat the final ``time``, ``position``, ``orientation``, ``velocity`` and
+    ``angular_velocity``, with ``wetted_area``, ``force`` and ``gap`` set to 0."""
 
     time: jax.Array
-    """() [s]"""
+    """() simulated time at the start of the step [s]"""
     position: jax.Array
-    """(3,) [m]"""
+    """(3,) centre of mass, world frame [m]"""
     orientation: jax.Array
     """(4,) unit quaternion (w, x, y, z), body to world [-]"""
     wetted_area: jax.Array
     """() immersed area [m^2]"""
     force: jax.Array
-    """(3,) water force [N]"""
+    """(3,) water force on the stone (total over its triangles, gravity not included), world frame [N]"""
     gap: jax.Array
     """() height of the stone's lowest vertex above the water under it [m] (negative: immersed)"""
     velocity: jax.Array
@@ -823,6 +832,13 @@ def rollout(config: SimConfig, throw: Throw, stone: RigidStone, water: WaterPara
     (:meth:`Throw.check`, as :func:`jaxskip.simulate` and :func:`jaxskip.simulate_batch` do),
     and build ``water`` with :func:`jaxskip.water_params`.
 
+    ``surface``: the water surface, a pure, JAX-traceable callable ``surface(x, y) -> h`` giving the
+    height [m] above the rest level z = 0 at world coordinates ``x, y`` [m] (arrays of any shape; ``h``
+    of the same shape), fixed in time. Default :func:`jaxskip.forces.flat_surface` (flat water, the
+    fast path). The release state is still placed ``throw.height`` above z = 0, not above ``surface``.
+    It is passed to :func:`make_step`; for :data:`rollout_jit` it is a static argument, so it must be
+    hashable (a function is, by identity: each new function or lambda compiles anew).
+
     >>> import jax
     >>> from jaxskip import SimConfig, Throw, paper_stone, rigid_stone, water_params
     >>> stone, water = rigid_stone(paper_stone(), density=2650.0), water_params()
@@ -839,4 +855,6 @@ def rollout(config: SimConfig, throw: Throw, stone: RigidStone, water: WaterPara
 
 
 rollout_jit = jax.jit(rollout, static_argnames=("config", "surface"))
-"""``rollout`` compiled once per (config, surface); new throws, stones of the same size and water constants reuse it."""
+"""``rollout`` compiled once per (config, surface); new throws, stones of the same size and water constants reuse it.
+Arguments as :func:`rollout`; ``config`` and ``surface`` are static (hashable: a :class:`SimConfig`, and a
+callable ``surface(x, y) -> height`` [m], default flat water, hashed by identity)."""

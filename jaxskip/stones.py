@@ -326,7 +326,15 @@ def _uv_pebble(semi_axes, n_lat, n_lon, perturbation, name: str) -> TriMesh:
 # registry and loader
 # ---------------------------------------------------------------------------
 
-#: Built-in stones: name -> (zero-argument mesh factory, default density [kg/m^3]).
+#: Built-in stones: name -> (zero-argument mesh factory, default density [kg/m^3]). Sizes are the factories'
+#: defaults; the masses [kg], rounded, are at the default density (from the meshes' exact volumes):
+#:
+#: * ``"paper"``: :func:`paper_stone`, rim radius 0.05 m, thickness 0.012 m, 38 triangles; 2650 kg/m^3, ~0.121 kg.
+#: * ``"disk"``: :func:`disk` of radius 0.04 m and thickness 0.008 m (32 segments); 2650 kg/m^3, ~0.106 kg.
+#: * ``"clanet"``: :func:`clanet_disk`, radius 0.025 m, thickness 0.00275 m; aluminium, 2700 kg/m^3, ~0.0145 kg.
+#: * ``"ellipsoid"``: :func:`ellipsoid_pebble`, semi-axes (0.03, 0.025, 0.008) m; 2650 kg/m^3, ~0.0624 kg.
+#: * ``"pebble"``: :func:`irregular_pebble` (seed 0), radius 0.04 m, thickness 0.012 m before its
+#:   roughness (radii scaled by up to ±15 %); 2650 kg/m^3, ~0.097 kg.
 BUILTIN_STONES = {
     "paper": (paper_stone, STONE_DENSITY),
     "disk": (functools.partial(disk, 0.04, 0.008), STONE_DENSITY),

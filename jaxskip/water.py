@@ -645,7 +645,10 @@ def height_at(grid: WaterGrid, height, x, y, origin=None):
 
     ``height``: column heights ``(nx, ny)``. ``origin``: centre ``(x, y)`` [m] of
     column ``(0, 0)`` (may be traced, for a window that moves; default
-    ``grid.origin``). Points outside the grid read the nearest edge column.
+    ``grid.origin``). A point outside the grid is first clamped to the nearest point of the
+    rectangle spanned by the column centres (each coordinate clipped separately) and interpolated
+    there: beyond a side it reads the bilinear value along that edge (between the two nearest
+    edge columns), beyond a corner the corner column's.
     Returns ``height - depth`` interpolated, with the shape of ``x``.
     """
     nx, ny = grid.shape

@@ -59,8 +59,10 @@ def check_interval(name: str, value, low: float, high: float, *, unit: str = "")
 class Box:
     """Bounds of a search, user units (m/s, deg, rev/s). Static and hashable.
 
-    ``searched`` maps each varied parameter to ``(low, high)``; ``held`` maps
-    the others to a value. Build it with :func:`make_box`.
+    ``searched`` is a tuple of ``(name, low, high)`` entries, one per varied parameter;
+    ``held`` a tuple of ``(name, value)`` entries for the others (tuples, not dicts, so
+    that the box hashes; :meth:`to_dict` gives the dict form). Build it with :func:`make_box`,
+    which takes dicts ``{name: (low, high)}`` and ``{name: value}``.
     """
 
     searched: tuple

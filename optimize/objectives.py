@@ -57,9 +57,11 @@ def _check_knobs(clearance, width) -> None:
 def soft_bounce_count(records, clearance: float = CLEARANCE, width: float = WIDTH):
     r"""Smooth bounce count :math:`\tilde N` from a rollout's per-step records.
 
-    ``records``: :class:`jaxskip.simulate.Record` with a leading step axis (``time`` (N,) [s],
-    ``gap`` (N,) [m]). ``clearance`` [m]: the level the lowest point must rise above (the
-    tracker's ``bounce_clearance``); ``width`` [m]: the sigmoid's width (the sharpening knob).
+    ``records``: the :class:`jaxskip.Record` of one throw's rollout (:func:`jaxskip.rollout` with
+    ``config.record``), with a leading step axis of length T: ``time`` (T,) [s], ``gap`` (T,) [m] (for a
+    batch, ``jax.vmap`` this function over it). Returns a scalar [-]. ``clearance`` [m]: the level the
+    lowest point must rise above (the tracker's ``bounce_clearance``); ``width`` [m]: the sigmoid's
+    width (the sharpening knob).
     Steps taken out of play repeat the time and are ignored.
     """
     _check_knobs(clearance, width)

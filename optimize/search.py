@@ -65,7 +65,21 @@ class SearchResult:
     best_bounces: int
     """Its true bounce count (exact simulation)."""
     history: list
-    """Per iteration: {"iteration", "bounces" (per start), "objective" (per start, surrogate), "best"}."""
+    """One dict per iteration (then one for a polish), user units. The keys depend on the method (each
+    search's Returns section says which it writes): ``"iteration"`` (int); ``"bounces"`` (list of true
+    bounce counts [-]: each start's (gradient), each centre's (perturbation), each throw's (local, a
+    polish), or a one-element list of the best count (grid, random)); ``"objective"`` (list per start:
+    the surrogate [-], or the distance [m] with ``objective="distance"`` (gradient); the mean true count
+    of each start's ``2 * samples + 1`` throws (perturbation); None where there is none); ``"best"``
+    (the true bounce count of the best throw so far [-]); ``"nonfinite"`` (starts whose gradient was
+    non-finite and replaced by zero; 0 without gradients); ``"points"`` ({parameter: list} of the
+    throws (perturbation: the centres) simulated, user units; not grid, random); ``"distance"`` (list
+    of true distances [m], as ``"bounces"``: a local search, a polish with ``objective="distance"``, and
+    a gradient search with ``objective="distance"``); ``"grad_norm"`` (a gradient search's iterations
+    with a gradient: each start's raw gradient norm before clipping, in bounces [-] per unconstrained
+    unit, m per unconstrained unit with ``objective="distance"``; None where non-finite);
+    ``"phase"`` (``"polish"``: a polish's entry and a local search's); ``"count_histogram"`` (grid,
+    random: throws per true bounce count, indexed by the count)."""
     box: Box
     """The search's bounds (:class:`optimize.bounds.Box`, user units)."""
     wall_time: float
@@ -95,15 +109,16 @@ class SearchResult:
                 "gradient_time": self.gradient_time, "compile_time": self.compile_time}
 
 
-#: Raw gradient norm (per unit of the unconstrained coordinates, before clipping) above which
-#: :func:`gradient_health` calls a gradient exploding. The smooth count's real slopes across the
-#: box are a few bounces per unit (its mean changes by tens of bounces across a range, ~10
-#: units); norms beyond 1e3 come from the rollout's chaos (benchmarks/README.md, session 14:
-#: the tail of the norms grows e-fold every ~150-190 contact steps, 40-50 ms, to ~1e13 over a
-#: whole throw), and the clipped step then follows noise.
+#: Raw gradient norm (before clipping) above which :func:`gradient_health` calls a gradient exploding: the
+#: norm of the objective's gradient with respect to the box's unconstrained coordinates, in bounces [-] per
+#: unconstrained unit (m per unconstrained unit with ``objective="distance"``, compared with the same
+#: number). The smooth count's real slopes across the box are a few bounces per unit (its mean changes
+#: by tens of bounces across a range, ~10 units); norms beyond 1e3 come from the rollout's chaos
+#: (benchmarks/README.md, session 14: the tail of the norms grows e-fold every ~150-190 contact steps,
+#: 40-50 ms, to ~1e13 over a whole throw), and the clipped step then follows noise.
 EXPLODING = 1e3
-#: Raw gradient norm below which :func:`gradient_health` calls a gradient vanishing: the smooth
-#: count is flat there (typically a throw that sinks at its first contact).
+#: Raw gradient norm below which :func:`gradient_health` calls a gradient vanishing (units as
+#: :data:`EXPLODING`): the smooth count is flat there (typically a throw that sinks at its first contact).
 VANISHING = 1e-6
 
 # Limits of the searches' counts (the checks and ``jaxskip optimize --help`` use these).
@@ -124,8 +139,12 @@ MAX_GRID_POINTS = 100_000_000
 def gradient_health(result: SearchResult) -> dict | None:
     """Summary of a gradient search's raw gradient norms (gradient-norm monitoring).
 
+    The norms are those of the objective's gradient with respect to the box's unconstrained
+    coordinates (``"grad_norm"`` in the history): bounces [-] per unconstrained unit, m per
+    unconstrained unit for a search with ``objective="distance"``.
+
     Returns ``None`` for a search without gradients, else a dict: ``median`` and ``max`` of the
-    finite norms (unconstrained units), ``of`` (evaluations), ``exploding`` (evaluations above
+    finite norms (units as above), ``of`` (evaluations), ``exploding`` (evaluations above
     :data:`EXPLODING`, or non-finite), ``vanishing`` (below :data:`VANISHING`), and per start
     ``starts`` = {``"n"``, ``"exploding"``: starts with an exploding gradient at some
     iteration, ``"vanishing"``: starts whose gradients all vanished}. An exploding start follows
@@ -290,8 +309,11 @@ def gradient_search(box: Box | None = None, *, objective: str = "bounces", stone
     ``gradient_time`` and ``compile_time`` [s]; ``box``, ``method`` (``"gradient"``) and ``objective``;
     ``history`` holds one entry per iteration and one after the last step (then the
     polish's): its ``"iteration"``, each start's true ``"bounces"`` (and ``"distance"`` [m] for the
-    distance objective), its surrogate ``"objective"``, the ``"best"`` count so far, ``"nonfinite"``
-    gradients, ``"points"`` and ``"grad_norm"``.
+    distance objective), its surrogate ``"objective"`` (None in the entry after the last step), the
+    ``"best"`` count so far, ``"nonfinite"`` gradients, ``"points"`` and (entries with a gradient)
+    ``"grad_norm"`` (bounces, or m for the distance objective, per unconstrained unit); a polish's
+    entry has ``"phase": "polish"`` (:func:`local_search`'s keys; ``"distance"`` only for the distance
+    objective).
     """
     t0 = time.perf_counter()
     box, config, progress = _common(box, config, progress)
@@ -424,6 +446,10 @@ def local_search(box: Box, centres: dict, *, throws: int = 256, scale: float = 0
     """Exact counts of ``throws`` random throws near ``centres`` (the best one wins: the most bounces,
     or with ``objective="distance"`` the longest distance).
 
+    ``box``: the bounds, as in :func:`gradient_search`: a :class:`~optimize.bounds.Box`
+    (:func:`~optimize.bounds.make_box`), a dict such as :data:`optimize.HUMAN_BOX` ({name: (low, high)}
+    searched, {name: value} held) or None (the human box); anything else is refused with
+    :class:`~jaxskip.ParameterError`.
     ``centres``: {parameter: (m,) array} in user units, one entry per searched parameter of
     ``box`` (e.g. :func:`top_throws` of a gradient search). Throw ``i`` perturbs centre
     ``i mod m``: each searched parameter by a normal deviate of ``scale`` (in (0, 1] [-]) times its
@@ -437,7 +463,8 @@ def local_search(box: Box, centres: dict, *, throws: int = 256, scale: float = 0
     Returns a :class:`SearchResult` (user units: m/s, deg, rev/s; fields as for :func:`gradient_search`):
     ``best`` the best throw, ``best_bounces`` its true count, ``best_distance`` its true distance [m],
     ``forward_throws`` the exact simulations run, ``wall_time`` [s]; ``history`` holds one entry
-    (``"phase": "polish"``): every throw's ``"points"``, true ``"bounces"`` and ``"distance"`` [m].
+    (``"phase": "polish"``, ``"iteration"`` 0): every throw's ``"points"``, true ``"bounces"`` and
+    ``"distance"`` [m], the ``"best"`` count, ``"objective"`` None and ``"nonfinite"`` 0.
 
     >>> from optimize import make_box
     >>> box = make_box({"speed": (6.0, 8.0)}, {"tilt": 20.0, "attack": 5.0, "spin": 20.0})
@@ -520,9 +547,10 @@ def perturbation_search(box: Box | None = None, *, stone="paper", config: SimCon
     Returns a :class:`SearchResult` (user units: m/s, deg, rev/s; fields as for :func:`gradient_search`):
     ``best`` the best throw, ``best_bounces`` its true count, ``best_distance`` its true distance [m],
     ``forward_throws`` the exact simulations run, ``wall_time`` [s]; ``gradient_evals`` is 0 (nothing
-    is differentiated); ``history`` holds one entry per iteration: the centres' true ``"bounces"``, the
-    mean count of each start's samples (``"objective"``), the ``"best"`` count so far and the centres'
-    ``"points"`` (then the polish's).
+    is differentiated); ``history`` holds one entry per iteration: its ``"iteration"``, the centres' true
+    ``"bounces"``, the mean true count of each start's ``2 * samples + 1`` throws, centre included
+    (``"objective"``), the ``"best"`` count so far, ``"nonfinite"`` 0 and the centres' ``"points"``
+    (then the polish's entry, ``"phase": "polish"``, as :func:`local_search`'s without ``"distance"``).
     """
     t0 = time.perf_counter()
     box, config, progress = _common(box, config, progress)
@@ -614,7 +642,8 @@ def grid_search(box: Box | None = None, *, per_axis: int = 10, stone="paper", co
     Returns a :class:`SearchResult` (user units: m/s, deg, rev/s; fields as for :func:`gradient_search`):
     ``best`` the best throw, ``best_bounces`` its true count, ``best_distance`` its true distance [m],
     ``forward_throws`` the exact simulations run, ``wall_time`` [s]; ``history`` holds one entry, with
-    the histogram of the counts (``"count_histogram"``).
+    the histogram of the counts (``"count_histogram"``), ``"iteration"`` 0, ``"bounces"`` (a one-element
+    list: the best count), the ``"best"`` count, ``"objective"`` None and ``"nonfinite"`` 0.
 
     >>> from optimize import make_box
     >>> box = make_box({"speed": (6.0, 8.0)}, {"tilt": 20.0, "attack": 5.0, "spin": 20.0})
@@ -640,7 +669,8 @@ def random_search(box: Box | None = None, *, throws: int = 1000, stone="paper", 
     Returns a :class:`SearchResult` (user units: m/s, deg, rev/s; fields as for :func:`gradient_search`):
     ``best`` the best throw, ``best_bounces`` its true count, ``best_distance`` its true distance [m],
     ``forward_throws`` the exact simulations run, ``wall_time`` [s]; ``history`` holds one entry, with
-    the histogram of the counts (``"count_histogram"``).
+    the histogram of the counts (``"count_histogram"``), ``"iteration"`` 0, ``"bounces"`` (a one-element
+    list: the best count), the ``"best"`` count, ``"objective"`` None and ``"nonfinite"`` 0.
 
     >>> from optimize import make_box
     >>> box = make_box({"speed": (6.0, 8.0)}, {"tilt": 20.0, "attack": 5.0, "spin": 20.0})

@@ -249,6 +249,8 @@ def _domain_chunk(spec: SweepSpec, sim, index: np.ndarray, progress: bool) -> di
     r = _batch(throws, sim, progress)
     t_end = r.tracker.t_end[:, 0]
     t_start = r.tracker.t_start[:, 0]
+    # "first_contact_time": the first contact's duration [s] (t_end - t_start), NaN (None in the file) where
+    # there was no contact or it never ended in a bounce; not the time at which it happened.
     first = np.where(np.isfinite(t_end), t_end - t_start, np.nan)
     return {"bounces": r.bounces.tolist(), "first_contact_time": [_num(x) for x in first]}
 
@@ -546,6 +548,11 @@ def parabola_minimum(x, y):
 def assemble(spec: SweepSpec, chunks: list[dict]) -> dict:
     """Join chunk results (in chunk order) into the sweep's result dictionary.
 
+    Both kinds hold ``spec`` (:meth:`SweepSpec.to_dict`). A domain sweep's result: ``bounces``
+    (n_tilts, n_attacks) [-] (nested lists, tilt first); ``first_contact_time`` (n_tilts, n_attacks): the
+    *duration* of the first contact [s], from its first wet triangle to the time its last wet triangle left
+    the water (not when the contact happened; None where there was none or it never ended in a bounce).
+
     A U_min sweep's result: ``umin`` per tilt [m/s] (None: no bounce up to the bracket's top),
     ``best_tilt`` [deg] / ``best_umin`` [m/s] the lowest grid point, ``best_tilt_fit`` /
     ``best_umin_fit`` the minimum between grid points (:func:`parabola_minimum`; None at the
@@ -618,11 +625,22 @@ def _spec_from_json(path: Path, data: dict) -> SweepSpec:
 def merge(folders, out_dir) -> dict:
     """Join the chunk files of several shards' folders (same sweep) into ``out_dir``'s result.
 
+    ``folders``: a non-empty list (any iterable) of sweep folders, each a ``str`` or ``os.PathLike``, or
+    one such path alone: the ``out_dir`` of each shard's :func:`run_sweep`. Each must hold a ``spec.json``, all the same
+    sweep's; together they must hold every chunk (a chunk found in several folders is taken from the
+    first). ``out_dir``: the folder that receives the chunks, ``result.json`` and ``result.csv`` (it may
+    be one of ``folders``). Returns the assembled result (:func:`assemble`).
+
     ``out_dir`` is created if missing (its parent must exist, as for :func:`run_sweep`). Every chunk file
     read is checked as :func:`run_sweep` checks it: a damaged one (or a damaged spec.json) raises
     :class:`~jaxskip.ParameterError` naming the file.
     """
-    folders = [Path(f) for f in folders]
+    if isinstance(folders, (str, bytes, os.PathLike)):
+        folders = [folders]  # one folder (iterating a str would give its characters)
+    try:
+        folders = [Path(os.fsdecode(f)) for f in folders]
+    except TypeError:
+        raise ParameterError(f"folders must be a path or a list of paths, got {type(folders).__name__}") from None
     if not folders:
         raise ParameterError("merge needs at least one folder")
     out = _out_folder(out_dir)

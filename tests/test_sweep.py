@@ -152,6 +152,9 @@ def test_shards_and_merge_equal_one_machine(tmp_path):
         merge([tmp_path / "s0"], tmp_path / "merged0")
     merged = merge([tmp_path / "s0", tmp_path / "s1"], tmp_path / "merged")
     assert merged == whole
+    assert merge(str(tmp_path / "merged"), tmp_path / "again") == whole  # one folder, not in a list
+    with pytest.raises(ParameterError, match="folders must be a path or a list of paths, got int"):
+        merge(5, tmp_path / "bad")
     assert (tmp_path / "merged" / "result.csv").read_bytes() == (tmp_path / "whole" / "result.csv").read_bytes()
 
 
