@@ -8,7 +8,7 @@ is that state carried forward by :math:`\tau = t - t_i` under gravity and torque
 .. math:: x(t) = x_i + v_i\,\tau - \tfrac12 g\,\tau^2\,\hat z, \qquad
           q(t) = \mathrm{free\_rotation}(q_i, L_i, \tau),
 
-the flow the simulator itself follows through the air (:func:`jaxskip.simulate.free_rotation`),
+the flow the simulator itself follows through the air (``free_rotation`` in the module ``jaxskip.simulate``),
 so frames in flight lie on the simulated arc and turn at the simulated spin, however long the
 jump (a straight line between steps would cut the parabola short by up to g dt²/8 = 0.5 mm in a
 20 ms jump, and a slerp turns at most half a turn per jump, whatever the spin). Tested against the
