@@ -17,7 +17,7 @@
 # per throw of the batched, compiled rollout (compile time excluded; the fastest of 3 runs). The default
 # configuration is marked.
 #
-# `python notebooks/speed_vs_accuracy.py` (full: 128 throws) or `JAXSKIP_QUICK=1 ...` (CI: 24).
+# `python notebooks/speed_vs_accuracy.py` (full: 128 throws) or `JAXSKIP_QUICK=1 ...` (CI: 16 throws; 3 of them on the height field).
 
 # %%
 import dataclasses
