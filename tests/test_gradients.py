@@ -152,7 +152,9 @@ def test_distance_objective_gradient_matches_finite_differences(paper, water, at
     assert int(tr.contacts) >= contacts and int(tr.bounces) >= 1 and bool(tr.alive)  # entries and exits
     f = jax.jit(f)
     d0 = float(f(base))
-    np.testing.assert_allclose(d0, float(distance(state, base, paper)), rtol=1e-14)
+    # Two compiled programs (the objective's and the rollout's): equal to rounding. They round apart by
+    # 3.9e-14 relative when XLA:CPU compiles at LLVM level 1 (session 20), so 1e-12 (4e-13 m here).
+    np.testing.assert_allclose(d0, float(distance(state, base, paper)), rtol=1e-12)
     assert d0 > 0.3
     grad = jax.jit(jax.grad(f))(base)
 
