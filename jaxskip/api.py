@@ -53,17 +53,44 @@ class Contact:
     x_end: float
     """Downrange position of the centre of mass at the contact's end [m] (at the end of the run if
     the stone never left the water)."""
+    tilt_direction_start: float = float("nan")
+    """Which way the face is tilted at the start [rad], in (-π, π]: the azimuth of the face normal's
+    horizontal part, measured from straight back along the heading. 0: leading edge up (the normal
+    leans back, as a throw with tilt > 0 is released); +π/2: banked, the normal leaning to the left of
+    the heading; ±π: leading edge down. A spinning stone's tilt precesses (the lift acts behind the
+    centre of mass), so this turns from contact to contact while ``tilt_start`` may hardly change. 0
+    for a level face; NaN if unknown."""
+    tilt_direction_end: float = float("nan")
+    """As ``tilt_direction_start``, at the end [rad] (NaN if the stone never left the water)."""
 
     def to_dict(self) -> dict:
         """JSON-ready: the fields (SI: s, m, rad), ``duration`` [s] and the tilts in degrees
-        (``tilt_start_deg``, ``tilt_end_deg``, ``tilt_change_deg``); values that are not known (NaN,
-        e.g. the tilt at the end of the last contact when the stone never left the water) become ``None``."""
+        (``tilt_start_deg``, ``tilt_end_deg``, ``tilt_change_deg``, ``tilt_direction_start_deg``,
+        ``tilt_direction_end_deg``); values that are not known (NaN, e.g. the tilt at the end of the
+        last contact when the stone never left the water) become ``None``."""
         d = dataclasses.asdict(self)
         d["duration"] = self.t_end - self.t_start
         d["tilt_start_deg"] = math.degrees(self.tilt_start)
         d["tilt_end_deg"] = math.degrees(self.tilt_end)
         d["tilt_change_deg"] = math.degrees(self.tilt_end - self.tilt_start)
+        d["tilt_direction_start_deg"] = math.degrees(self.tilt_direction_start)
+        d["tilt_direction_end_deg"] = math.degrees(self.tilt_direction_end)
         return {k: (v if math.isfinite(v) else None) for k, v in d.items()}
+
+
+def _tilt_direction(trajectory: dict, t: float, heading: float) -> float:
+    """:attr:`Contact.tilt_direction_start` [rad] of the recorded state at time ``t`` [s] (the last step
+    starting at or before ``t``); ``heading`` [rad]. NaN for a NaN ``t``; 0 for a level face."""
+    if not math.isfinite(t):
+        return float("nan")
+    i = max(int(np.searchsorted(trajectory["time"], t, side="right")) - 1, 0)
+    w, x, y, z = (float(v) for v in trajectory["orientation"][i])
+    nx, ny = 2.0 * (x * z + w * y), 2.0 * (y * z - w * x)  # the face normal (body z) in the world, horizontal part
+    back = -(nx * math.cos(heading) + ny * math.sin(heading))
+    left = -nx * math.sin(heading) + ny * math.cos(heading)
+    if math.hypot(back, left) < 1e-12:
+        return 0.0
+    return math.atan2(left, back)
 
 
 @document_fields
@@ -414,6 +441,8 @@ def simulate(
             tilt_start=float(tr.tilt_start[i]),
             tilt_end=float(tr.tilt_end[i]) if np.isfinite(tr.tilt_end[i]) else float("nan"),
             x_end=float(np.asarray(tr.x_end[i, :2] if np.isfinite(tr.t_end[i]) else state.position[:2]) @ along),
+            tilt_direction_start=_tilt_direction(traj, float(tr.t_start[i]), heading),
+            tilt_direction_end=_tilt_direction(traj, float(tr.t_end[i]), heading),
         )
         for i in range(k)
     ]

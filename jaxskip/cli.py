@@ -195,13 +195,17 @@ def _summary(result) -> str:
         f"attitude {result.config.attitude}, integrator {result.config.integrator}, dt {result.config.dt:g} s",
     ]
     if result.contacts:
-        lines.append("  #   start [s]  length [ms]   x [m]   tilt in -> out [deg]")
+        lines.append("  #   start [s]  length [ms]   x [m]   tilt in -> out [deg]   tilt direction in -> out [deg]")
         for i, c in enumerate(result.contacts[:40]):
             lines.append(
                 f"{i + 1:3d}   {c.t_start:8.3f}   {1e3 * (c.t_end - c.t_start):9.1f}   {c.x:6.2f}   "
                 f"{math.degrees(c.tilt_start):6.1f} -> "
-                + (f"{math.degrees(c.tilt_end):6.1f}" if math.isfinite(c.tilt_end) else "   (in the water at the end)")
+                + (f"{math.degrees(c.tilt_end):6.1f}   {round(math.degrees(c.tilt_direction_start)):10d} -> "
+                   f"{round(math.degrees(c.tilt_direction_end)):4d}" if math.isfinite(c.tilt_end)
+                   else "   (in the water at the end)")
             )
+        if result.contacts and result.config.attitude == "free":
+            lines.append("  (tilt direction: 0 leading edge up, +90 banked to the left, 180 leading edge down)")
         if len(result.contacts) > 40:
             lines.append(f"  ... {len(result.contacts) - 40} more")
     if result.outcome == "step_limit":
