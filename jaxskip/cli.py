@@ -187,6 +187,11 @@ def build_parser(argv=None) -> argparse.ArgumentParser:
     return p
 
 
+def _degrees(angle: float) -> str:
+    """An angle [rad] as whole degrees for a table ("?" if unknown)."""
+    return str(round(math.degrees(angle))) if math.isfinite(angle) else "?"
+
+
 def _summary(result) -> str:
     lines = [
         f"{result.bounces} bounces over {result.distance:.2f} m; outcome: {result.outcome.replace('_', ' ')} "
@@ -200,14 +205,13 @@ def _summary(result) -> str:
             lines.append(
                 f"{i + 1:3d}   {c.t_start:8.3f}   {1e3 * (c.t_end - c.t_start):9.1f}   {c.x:6.2f}   "
                 f"{math.degrees(c.tilt_start):6.1f} -> "
-                + (f"{math.degrees(c.tilt_end):6.1f}   {round(math.degrees(c.tilt_direction_start)):10d} -> "
-                   f"{round(math.degrees(c.tilt_direction_end)):4d}" if math.isfinite(c.tilt_end)
+                + (f"{math.degrees(c.tilt_end):6.1f}   {_degrees(c.tilt_direction_start):>10} -> "
+                   f"{_degrees(c.tilt_direction_end):>4}" if math.isfinite(c.tilt_end)
                    else "   (in the water at the end)")
             )
-        if result.contacts and result.config.attitude == "free":
-            lines.append("  (tilt direction: 0 leading edge up, +90 banked to the left, 180 leading edge down)")
         if len(result.contacts) > 40:
             lines.append(f"  ... {len(result.contacts) - 40} more")
+        lines.append("  (tilt direction: 0 leading edge up, +90 banked to the left, 180 leading edge down)")
     if result.outcome == "step_limit":
         lines.append("note: the step budget ran out while the stone was still in play; raise --max-steps")
     return "\n".join(lines)
