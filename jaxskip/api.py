@@ -85,7 +85,9 @@ def _tilt_direction(trajectory: dict, t: float, heading: float) -> float:
         return float("nan")
     i = max(int(np.searchsorted(trajectory["time"], t, side="right")) - 1, 0)
     w, x, y, z = (float(v) for v in trajectory["orientation"][i])
-    nx, ny = 2.0 * (x * z + w * y), 2.0 * (y * z - w * x)  # the face normal (body z) in the world, horizontal part
+    # The face normal (body z) in the world, horizontal part: column 2 of quaternion.to_matrix, in host floats
+    # (a JAX call per contact would dispatch, and in a fresh process compile, tiny ops).
+    nx, ny = 2.0 * (x * z + w * y), 2.0 * (y * z - w * x)
     back = -(nx * math.cos(heading) + ny * math.sin(heading))
     left = -nx * math.sin(heading) + ny * math.cos(heading)
     if math.hypot(back, left) < 1e-12:

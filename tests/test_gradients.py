@@ -35,14 +35,14 @@ def test_free_body_gradients_through_contacts(paper, water, sharpness, steps):
     clipping through the first contact and bounce (150 steps)."""
     config = SimConfig(record=False, max_steps=steps, duration=100.0, force=ForceModel(sharpness=sharpness))
 
-    def reach(throw):
-        state, tracker, _ = rollout(config, throw, paper, water)
+    def reach_of(state):
         return state.position[0] + state.position[2]
 
     run = jax.jit(lambda t: rollout(config, t, paper, water)[:2])
     base = Throw.from_degrees(speed=8.0, tilt=20.0, attack=10.0, spin=20.0)
     assert int(run(base)[1].bounces) >= 1  # the check really crosses water entry and exit
-    fd_check(reach, base, rtol=1e-5, value=lambda t: (lambda s: s.position[0] + s.position[2])(run(t)[0]))
+    fd_check(lambda t: reach_of(rollout(config, t, paper, water)[0]), base, rtol=1e-5,
+             value=lambda t: reach_of(run(t)[0]))
 
 
 def test_fixed_attitude_gradient_of_a_whole_throw(paper, water):
