@@ -54,8 +54,8 @@ class RigidStone:
         NaN distances or a "sank" with a negative mass. Checked on concrete values (a traced stone
         passes through): the shapes above with one F; every number finite; ``mass`` > 0 with the
         density it implies through the mesh's volume in :data:`DENSITY_RANGE`; ``areas`` > 0;
-        unit ``normals``; ``inertia`` symmetric positive definite with ``inv_inertia`` its
-        inverse; ``radius`` in :data:`RADIUS_RANGE` and at least the vertices' reach.
+        unit ``normals``; ``inertia`` diagonal (the principal frame) and positive definite with
+        ``inv_inertia`` its inverse; ``radius`` in :data:`RADIUS_RANGE` and at least the vertices' reach.
         (The mass distribution may differ from the mesh's uniform one: a weighted stone is allowed.)
         """
         leaves = {f.name: getattr(self, f.name) for f in dataclasses.fields(self)}
@@ -95,6 +95,10 @@ class RigidStone:
         if not scale > 0.0 or np.max(np.abs(inertia - inertia.T)) > 1e-6 * scale or \
                 np.min(np.linalg.eigvalsh(0.5 * (inertia + inertia.T))) <= 0.0:
             raise ParameterError("stone.inertia must be a symmetric positive definite (3, 3) tensor [kg m^2]")
+        if np.max(np.abs(inertia - np.diag(np.diag(inertia)))) > 1e-9 * scale:
+            raise ParameterError("stone.inertia must be diagonal: the body frame is the stone's principal frame "
+                                 "(the simulator reads only the principal moments; jaxskip.rigid_stone rotates "
+                                 "the mesh into that frame)")
         if np.max(np.abs(a["inv_inertia"] @ inertia - np.eye(3))) > 1e-4:
             raise ParameterError("stone.inv_inertia must be the inverse of stone.inertia")
         r = float(a["radius"])

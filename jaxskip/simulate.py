@@ -637,8 +637,15 @@ def _integrate(config, stone, water, surface, state: StoneState, R, L, dt, first
 
 
 def _step_length(config, stone, water, state: StoneState, gap, wet):
-    """Conservative-advancement step length [s] and whether the step is certainly dry."""
+    """Conservative-advancement step length [s] and whether the step is certainly dry.
+
+    A jump never passes ``config.duration`` (the run ends there, by ``time_limit``). With smooth
+    clipping (``ForceModel(sharpness=κ)``) the water loads the stone from ``1/(2κ)`` above the
+    surface, so the jump aims that far above it.
+    """
     g = water.gravity
+    if config.force.sharpness is not None:
+        gap = gap - 0.5 / config.force.sharpness
     spin = 0.0 if config.attitude == "fixed" else jnp.sqrt(jnp.sum(state.angular_velocity**2) + 1e-30)
     b = state.velocity[2] - spin * stone.radius
     dry = (gap > 0.0) & (wet <= 0.0)
@@ -647,7 +654,9 @@ def _step_length(config, stone, water, state: StoneState, gap, wet):
     if config.flight == "step":
         return jnp.asarray(config.dt, state.time.dtype) + 0.0 * gap, dry & (t_star >= config.dt)
     # ``dry`` for the integrator: the whole step ends before any contact can begin.
-    return jnp.clip(t_star, config.dt, config.max_flight_step), dry & (t_star >= config.dt)
+    step = jnp.clip(t_star, config.dt, config.max_flight_step)
+    step = jnp.minimum(step, jnp.maximum(config.duration - state.time, config.dt))
+    return step, dry & (t_star >= config.dt)
 
 
 def make_step(config: SimConfig, surface=flat_surface, push: bool = False):

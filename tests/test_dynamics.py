@@ -7,7 +7,8 @@ import jax.numpy as jnp
 import numpy as np
 import pytest
 
-from jaxskip import SimConfig, Throw, clanet_disk, ellipsoid_pebble, initial_state, rigid_stone, rollout, rollout_jit
+from jaxskip import (ForceModel, SimConfig, Throw, clanet_disk, ellipsoid_pebble, initial_state, rigid_stone, rollout,
+                     rollout_jit, steps_for)
 from jaxskip import quaternion as quat
 from jaxskip.simulate import free_rotation
 
@@ -28,6 +29,35 @@ def test_free_flight_is_the_exact_parabola(paper, water, integrator, flight):
     np.testing.assert_allclose(np.asarray(rec.position)[keep], exact, atol=1e-9, rtol=0)
     if flight == "jump":
         assert keep.sum() < 40  # the flight is jumped, not stepped at dt
+
+
+def test_a_jump_through_the_air_ends_at_the_duration(paper, water):
+    """The run's time limit stops a flight jump: the final time is ``duration`` to within one ``dt``
+    (a jump of up to ``max_flight_step`` used to pass it: 0.06 s for 0.05 s)."""
+    from jaxskip.simulate import OUTCOMES
+
+    throw = Throw.from_degrees(height=1.0)
+    for flight in ("jump", "step"):
+        config = SimConfig(flight=flight, duration=0.05, max_steps=400, record=False)
+        state, tracker, _ = rollout_jit(config, throw, paper, water)
+        assert OUTCOMES[int(tracker.outcome)] == "time_limit" and int(tracker.contacts) == 0
+        assert 0.05 <= float(state.time) <= 0.05 + 1.0001 * config.dt, (flight, float(state.time))
+
+
+def test_smooth_clipping_jumps_aim_where_the_ramp_begins(paper, water):
+    """With ``ForceModel(sharpness=κ)`` the water loads the stone from 1/(2κ) above its surface (10 mm at
+    κ = 50/m): jumps through the air aim there, so the contacts are those of a run stepped at dt all
+    the way (jumps aimed at the surface landed inside the ramp: a contact began 26 ms late)."""
+    throw = Throw.from_degrees(speed=5.0, tilt=20.0, attack=10.0, spin=20.0, height=0.05)
+    runs = {}
+    for flight in ("jump", "step"):
+        config = SimConfig(duration=0.4, max_steps=steps_for(0.4, 2.5e-4), attitude="fixed", flight=flight,
+                           force=ForceModel(sharpness=50.0), record=False)
+        runs[flight] = rollout_jit(config, throw, paper, water)[1]
+    jump, step = runs["jump"], runs["step"]
+    assert int(jump.contacts) == int(step.contacts) == 3 and int(jump.bounces) == int(step.bounces) == 2
+    np.testing.assert_allclose(np.asarray(jump.t_start[:3]), np.asarray(step.t_start[:3]), atol=4 * 2.5e-4)
+    np.testing.assert_allclose(np.asarray(jump.t_end[:2]), np.asarray(step.t_end[:2]), atol=4 * 2.5e-4)
 
 
 def symmetric_top(q0, L, inertia, t):

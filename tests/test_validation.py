@@ -36,6 +36,11 @@ def test_force_model_and_water():
         ForceModel(law="magic")
     with pytest.raises(ParameterError, match="sharpness"):
         ForceModel(sharpness=-1.0)
+    # beyond 1e6 /m the smooth area cancels to round-off in float32 (5 % off at 1e8, 0 at 1e12: the stone
+    # fell through the water); below 1 /m the ramp is wider than any stone (1e-40 gave NaN in float32)
+    for bad in (1e7, 1e12, 0.5, 1e-40):
+        with pytest.raises(ParameterError, match=r"sharpness must be in \[1, 1e\+06\] 1/m"):
+            ForceModel(sharpness=bad)
     with pytest.raises(ParameterError, match="rho_water"):
         water_params(rho_water=0.0)
     with pytest.raises(ParameterError, match="gravity"):
@@ -375,6 +380,9 @@ def _session_19_bad_inputs():
         (lambda: simulate_batch(Throw.from_degrees(speed=np.array([6.0, 7.0])), replace(stone, triangles=stone.triangles[None])),
          r"stone.triangles must have shape \(F, 3, 3\)"),
         (lambda: simulate(stone=replace(stone, inertia=-stone.inertia)), "symmetric positive definite"),
+        # (session 21) an inertia tensor off the principal frame ran with its off-diagonal terms ignored
+        (lambda: simulate(stone=replace(stone, inertia=stone.inertia.at[0, 1].set(1e-6).at[1, 0].set(1e-6))),
+         "stone.inertia must be diagonal"),
         (lambda: simulate(stone=replace(stone, radius=jnp.asarray(0.01))), "stone.radius"),
         # text and bools passed float(): a config held a string, True counted as 1
         (lambda: SimConfig(duration=True), "duration must be a real number"),
