@@ -61,7 +61,8 @@ from .forces import WaterParams
 from .simulate import SimConfig, _new_tracker, _scan, initial_state, make_step
 from ._checks import ParameterError, check_bool, check_int, check_range
 from .throw import Throw
-from .water import WaterGrid, WaterState, deposit, height_at, make_water_step, still_water, water_substeps
+from .water import (WaterGrid, WaterState, _check_grid, deposit, height_at, make_water_step, still_water,
+                    water_substeps)
 
 
 CLAMP_BLOCKS = (0.32, 0.64)
@@ -107,7 +108,7 @@ def default_water_dt(grid: WaterGrid) -> float:
     >>> default_water_dt(default_window())  # time_step 9.8 ms
     0.001
     """
-    return min(1e-3, grid.time_step)
+    return min(1e-3, _check_grid(grid).time_step)
 
 
 def _shift(a, d, fill):
@@ -182,6 +183,8 @@ def make_coupled_step(config: SimConfig, grid: WaterGrid, water_dt: float | None
     filter spreads it over ~``spread`` columns, a triangle's size, instead of
     exciting the grid's shortest, checkerboard waves). 0: no spreading.
     """
+    _check_config(config)
+    _check_grid(grid)
     water_dt = default_water_dt(grid) if water_dt is None else check_range(
         "water_dt", water_dt, 0.0, grid.time_step, unit="s", low_open=True)
     check_int("spread", spread, minimum=0, maximum=100)
@@ -247,12 +250,21 @@ def initial_field(grid: WaterGrid, position) -> Field:
     >>> f.offset.tolist(), f.water.height.shape, float(f.pending)
     ([-22, -32], (64, 64), 0.0)
     """
+    _check_grid(grid)
     position = _checked_position(position)
     dtype = position.dtype
     nx, ny = grid.shape
     offset = (jnp.round(position[:2] / grid.spacing).astype(jnp.int32)
               - jnp.array([nx // 2, ny // 2], jnp.int32))
     return Field(still_water(grid, dtype=dtype), offset, jnp.zeros(grid.shape, dtype), jnp.zeros((), dtype))
+
+
+def _check_config(config) -> SimConfig:
+    """``config`` must be a :class:`jaxskip.SimConfig` (a clear error instead of an AttributeError inside)."""
+    if not isinstance(config, SimConfig):
+        raise ParameterError(f"config must be a jaxskip.SimConfig (e.g. SimConfig(dt=2.5e-4)), "
+                             f"got {type(config).__name__}")
+    return config
 
 
 def _checked_position(position):
@@ -282,6 +294,8 @@ def rollout_coupled(config: SimConfig, grid: WaterGrid, throw: Throw, stone: Rig
     the final :class:`Field` (the window's water and its offset). The water
     starts still. ``water_dt`` and ``two_way`` as in :func:`make_coupled_step`.
     """
+    _check_config(config)
+    _check_grid(grid)
     state = initial_state(throw, stone)
     carry = (state, _new_tracker(config.max_contacts, state.position.dtype), initial_field(grid, state.position))
     step = make_coupled_step(config, grid, water_dt, two_way)

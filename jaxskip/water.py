@@ -126,6 +126,13 @@ MAX_COLUMNS = 4096 * 4096
 _MARGIN = 1e-9   # relative: a column drained by the clamp keeps ~1e-9 of its outflow, above round-off
 
 
+def _margin(dtype) -> float:
+    """The clamp's relative margin for ``dtype``: :data:`_MARGIN`, or 64 units of round-off where that is
+    more (float32: 1 + 1e-9 rounds to 1, and drained columns dipped to -2e-9 m; 64 units keep the smooth
+    clamp's log-exp factor below its bound too)."""
+    return max(_MARGIN, 64.0 * float(jnp.finfo(dtype).eps))
+
+
 @document_fields
 @dataclasses.dataclass(frozen=True)
 class WaterGrid:
@@ -425,7 +432,7 @@ def _clamp(grid: WaterGrid, volume, flows, dt, block=None, listed: bool = False)
         parts = _gather_out(*flows)    # flow out of (i, j) towards each neighbour (negative: in)
     out = _outflow(parts)
     incoming = tuple(jnp.maximum(-p, 0.0) for p in parts)
-    need = dt * out * (1.0 + _MARGIN)     # aim a hair above zero: round-off cannot dip below
+    need = dt * out * (1.0 + _margin(out.dtype))   # aim a hair above zero: round-off cannot dip below
     if block is not None and listed:
         s = _listed_factors(grid, volume, out, need, incoming, dt)
     else:

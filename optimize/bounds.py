@@ -36,12 +36,21 @@ HUMAN_BOX = {"speed": (3.0, 12.0), "tilt": (5.0, 45.0), "attack": (0.0, 30.0), "
 
 def check_interval(name: str, value, low: float, high: float, *, unit: str = "") -> tuple[float, float]:
     """Validate ``value = (lo, hi)``: finite, ``lo < hi``, inside ``[low, high]``; returns floats."""
-    try:
-        lo, hi = (float(v) for v in value)
-    except (TypeError, ValueError):
-        raise ParameterError(f"{name} must be a pair (low, high) of numbers, got {value!r}") from None
     u = f" {unit}" if unit else ""
     valid = f"within [{low:g}, {high:g}]{u}"
+    pair = f"a pair (low, high) of numbers {valid}"
+    if isinstance(value, (str, bytes)):   # "39" would unpack to (3, 9)
+        raise ParameterError(f"{name} must be {pair}, got {value!r}")
+    try:
+        lo, hi = value
+    except (TypeError, ValueError):
+        raise ParameterError(f"{name} must be {pair}, got {value!r}") from None
+    if any(isinstance(v, (str, bytes, bool, np.bool_)) for v in (lo, hi)):   # True is not 1 m/s
+        raise ParameterError(f"{name} must be {pair}, got {value!r}")
+    try:
+        lo, hi = float(lo), float(hi)
+    except (TypeError, ValueError):
+        raise ParameterError(f"{name} must be {pair}, got {value!r}") from None
     if not (math.isfinite(lo) and math.isfinite(hi)):
         raise ParameterError(f"{name} must be finite and lie {valid}, got ({lo}, {hi})")
     if lo > hi:
@@ -71,23 +80,30 @@ class Box:
     """((name, value), ...) for the parameters kept fixed, user units, each inside :data:`LIMITS`."""
 
     def __post_init__(self):
-        seen = []
+        # (the checked floats are stored: a Box built by hand with "3" for 3 m/s failed later, in to_user)
+        seen, searched, held = [], [], []
         for entry in self.searched:
             if not (isinstance(entry, tuple) and len(entry) == 3 and entry[0] in LIMITS):
                 raise ParameterError(f"Box.searched entries must be (name, low, high) with a name from "
                                      f"{', '.join(PARAMETERS)}; got {entry!r} (build boxes with make_box)")
             low, high, unit = LIMITS[entry[0]]
-            check_interval(entry[0], entry[1:], low, high, unit=unit)
+            searched.append((entry[0], *check_interval(entry[0], entry[1:], low, high, unit=unit)))
             seen.append(entry[0])
         for entry in self.held:
             if not (isinstance(entry, tuple) and len(entry) == 2 and entry[0] in LIMITS):
                 raise ParameterError(f"Box.held entries must be (name, value) with a name from "
                                      f"{', '.join(PARAMETERS)}; got {entry!r} (build boxes with make_box)")
-            _held_value(entry[0], entry[1])
+            held.append((entry[0], _held_value(entry[0], entry[1])))
             seen.append(entry[0])
         if not self.searched or sorted(seen) != sorted(PARAMETERS):
             raise ParameterError(f"a Box must search at least one of {', '.join(PARAMETERS)} and give each exactly "
                                  f"once (searched or held); got {seen} (build boxes with make_box)")
+        names = [e[0] for e in searched]
+        if names != [n for n in PARAMETERS if n in names]:   # u's last axis follows this order
+            raise ParameterError(f"Box.searched must list its parameters in the order {', '.join(PARAMETERS)}; "
+                                 f"got {', '.join(names)} (build boxes with make_box, which orders them)")
+        object.__setattr__(self, "searched", tuple(searched))
+        object.__setattr__(self, "held", tuple(held))
 
     @property
     def names(self) -> tuple:

@@ -20,7 +20,9 @@ their reference spin, impact angle :math:`\beta = 20°` and speed 3.5 m/s.
   (``best_tilt_fit``, ``best_umin_fit`` in a U_min sweep's result).
 
 Scale: the work is cut into chunks (by default about :data:`CHUNKS` of them,
-:func:`default_chunk_size`; chunking does not change the numbers); each finished chunk is written atomically (temporary
+:func:`default_chunk_size`; in float64, the CLI's precision, chunking changes no number; in float32 a
+throw's numbers may move at rounding level with its chunk's size, which sets the compiled batch, and a
+long, chaotic throw's count with them); each finished chunk is written atomically (temporary
 file + ``os.replace``) to ``out_dir/chunk-NNNNN.json`` and a re-run loads it
 instead of computing it again, so an interrupted sweep resumes where it stopped
 and gives the same file as an uninterrupted one. With

@@ -187,6 +187,20 @@ def test_two_way_must_be_true_or_false(two_way):
     make_coupled_step(SimConfig(), SMALL, two_way=np.bool_(False))  # NumPy's bool is a bool
 
 
+def test_coupled_entry_points_check_grid_and_config():
+    """A grid or config of the wrong type raised AttributeError deep inside: now a ParameterError naming it."""
+    from jaxskip.coupled import default_water_dt, rollout_coupled
+
+    grid_error = "grid must be a jaxskip.WaterGrid"
+    for call in (lambda: make_coupled_step(SimConfig(), None), lambda: make_coupled_step(SimConfig(), {"shape": (8, 8)}),
+                 lambda: initial_field(None, [0.0, 0.0, 0.0]), lambda: default_water_dt(None),
+                 lambda: rollout_coupled(SimConfig(), None, Throw.from_degrees(), None, None)):
+        with pytest.raises(ParameterError, match=grid_error):
+            call()
+    with pytest.raises(ParameterError, match="config must be a jaxskip.SimConfig"):
+        make_coupled_step(None, SMALL)
+
+
 @pytest.mark.parametrize("position", [[np.nan, 0.0, 0.01], np.array([0.0, np.inf, 0.01]), [0.1], np.zeros(4),
                                       np.zeros((1, 3)), "abc", None, [True, False, True], 0.1])
 def test_initial_field_checks_the_position(position):

@@ -101,11 +101,29 @@ def test_soft_count_ignores_frozen_steps():
     ({"attack": (-10.0, 20.0)}, "attack must lie within"),
     ({"velocity": (1.0, 2.0)}, "unknown throw parameter"),
     ({"speed": "fast"}, "speed must be a pair"),
+    ({"speed": "39"}, "speed must be a pair"),          # was read as (3, 9) m/s
+    ({"speed": (True, 5.0)}, "speed must be a pair"),   # was read as (1, 5) m/s
     ({}, "at least one searched"),
 ])
 def test_bad_bounds(searched, message):
     with pytest.raises(ParameterError, match=message):
         make_box(searched)
+
+
+def test_a_box_built_by_hand_stores_checked_floats_in_order():
+    """Box(...) built directly kept a "3" (failing later in to_user) and took parameters out of order
+    (u's last axis follows PARAMETERS): text is refused, numbers are stored as the checked floats, and
+    another order is refused."""
+    from optimize.bounds import Box
+
+    with pytest.raises(ParameterError, match="speed must be a pair"):
+        Box((("speed", "3", 12.0),), (("tilt", 5.0), ("attack", 5.0), ("spin", 20.0)))
+    box = Box((("speed", 3, np.float32(12.0)),), (("tilt", 5), ("attack", 5.0), ("spin", np.float32(20.0))))
+    assert box.searched == (("speed", 3.0, 12.0),) and type(box.searched[0][2]) is float
+    assert all(type(v) is float for _, v in box.held)
+    assert box == make_box({"speed": (3.0, 12.0)}, held={"tilt": 5.0, "attack": 5.0, "spin": 20.0})
+    with pytest.raises(ParameterError, match="in the order speed, tilt, attack, spin"):
+        Box((("tilt", 5.0, 45.0), ("speed", 3.0, 12.0)), (("attack", 5.0), ("spin", 20.0)))
 
 
 def test_box_reparameterisation_stays_inside():
