@@ -28,9 +28,11 @@ from .settings import SIM_DEFAULTS, describe, environment, simulation  # noqa: F
 EXIT_USAGE = 2
 PICTURES = (".png", ".pdf", ".svg")
 
-# A negative number in any notation Python's float() reads, e-notation included: argparse's own
-# pattern (r'^-\d+$|^-\d*\.\d+$') takes "--tilt -1e1" for a flag and fails with "expected one argument".
-_NEGATIVE_NUMBER = re.compile(r"^-(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?$")
+# A value that starts like a negative number: any notation Python's float() reads (e-notation, -inf, -nan),
+# and the sweeps' lists and ranges (-10,10 or -10:10:3). argparse's own pattern (r'^-\d+$|^-\d*\.\d+$')
+# takes "--tilt -1e1" or "--tilts -10:10:3" for a flag and fails with "expected one argument"; no flag
+# of jaxskip starts with a digit, a dot, "inf" or "nan".
+_NEGATIVE_NUMBER = re.compile(r"^-(\d|\.\d|inf|nan)", re.IGNORECASE)
 
 
 class _Parser(argparse.ArgumentParser):
@@ -114,6 +116,8 @@ def check_output(flag: str, path, suffixes=None) -> None:
     exist, a folder where a file goes (or a file where a folder goes: ``suffixes`` None)."""
     if path is None:
         return
+    if not str(path).strip():   # "" means the current folder to pathlib: a sweep's files landed there
+        raise ParameterError(f"{flag} must be a {'file' if suffixes else 'folder'} path, got {path!r}")
     if suffixes and not str(path).lower().endswith(suffixes):
         ends = " or ".join(filter(None, [", ".join(suffixes[:-1]), suffixes[-1]]))
         raise ParameterError(f"{flag} must end in {ends}, got {path!r}")
@@ -209,8 +213,10 @@ def _summary(result) -> str:
                    f"{_degrees(c.tilt_direction_end):>4}" if math.isfinite(c.tilt_end)
                    else "   (in the water at the end)")
             )
-        if len(result.contacts) > 40:
-            lines.append(f"  ... {len(result.contacts) - 40} more")
+        if result.n_contacts > 40:
+            logged = (f" (the first {len(result.contacts)} of {result.n_contacts} are logged)"
+                      if result.n_contacts > len(result.contacts) else "")
+            lines.append(f"  ... {result.n_contacts - 40} more{logged}")
         lines.append("  (tilt direction: 0 leading edge up, +90 banked to the left, 180 leading edge down)")
     if result.outcome == "step_limit":
         lines.append("note: the step budget ran out while the stone was still in play; raise --max-steps")

@@ -297,10 +297,13 @@ def run_sweep_command(args) -> int:
         if result is None:
             msg = (f"shard {shard}/{shards} done; chunks in {args.out}; join the shards with "
                    "`jaxskip sweep merge FOLDER... --out DIR`")
+            no_plot = "no picture: the sweep is not complete here (give --plot to the merge)"
             if args.json:
-                print_json({"complete": False, "out": args.out})
+                print_json({"complete": False, "out": args.out, **({"plot": None} if args.plot else {})})
+                if args.plot:
+                    print(f"jaxskip: note: {no_plot}", file=sys.stderr)
             else:
-                print(msg)
+                print(msg + (f"\n{no_plot}" if args.plot else ""))
             return 0
     if args.plot:
         plot_sweep(result, args.plot)

@@ -615,12 +615,15 @@ def _spec_from_json(path: Path, data: dict) -> SweepSpec:
         raise ParameterError(f"{str(path)!r} is damaged (its keys are not a sweep's); {SPEC_REMEDY}")
     spec = SweepSpec(**{k: (tuple(v) if isinstance(v, list) else v) for k, v in data.items()})
     all_numbers = lambda v: all(isinstance(x, (int, float)) and not isinstance(x, bool) for x in v)  # noqa: E731
+    is_int = lambda v, low, high: isinstance(v, int) and not isinstance(v, bool) and low <= v <= high  # noqa: E731
+    span = spec.speed_range
     if (spec.kind not in ("domain", "umin") or not spec.tilts or not all_numbers(spec.tilts) or not spec.attacks
-            or not all_numbers(spec.attacks)
-            or not isinstance(spec.chunk_size, int) or isinstance(spec.chunk_size, bool)
-            or spec.chunk_size < 1):
-        raise ParameterError(f"{str(path)!r} is damaged (its kind, tilts, attacks or chunk_size are not a sweep's); "
-                             f"{SPEC_REMEDY}")
+            or not all_numbers(spec.attacks) or not is_int(spec.chunk_size, 1, math.inf)
+            # (a null iterations, say, ended merge in a TypeError traceback)
+            or not is_int(spec.iterations, 1, MAX_BISECTIONS) or not all_numbers((spec.speed, spec.spin))
+            or not isinstance(span, tuple) or len(span) != 2 or not all_numbers(span) or not 0 < span[0] < span[1]):
+        raise ParameterError(f"{str(path)!r} is damaged (its kind, tilts, attacks, speeds, spin, iterations or "
+                             f"chunk_size are not a sweep's); {SPEC_REMEDY}")
     return spec
 
 

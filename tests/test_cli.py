@@ -197,6 +197,26 @@ def test_progress_line_before_the_animation_is_written(tmp_path, monkeypatch, ca
     assert written[1] == ""
 
 
+def test_the_table_counts_every_contact_left_out(capsys):
+    """Past 40 rows the table says how many contacts follow, counted from all contacts, not from the
+    logged ones (SimConfig.max_contacts = 64): a 71-contact throw said "... 24 more" instead of 31."""
+    argv = ["throw", "--stone", "clanet", "--spin", "100"]
+    assert main(argv + ["--json"]) == 0
+    n = json.loads(capsys.readouterr().out)["n_contacts"]
+    assert main(argv) == 0
+    text = capsys.readouterr().out
+    assert n > 40 and f"  ... {n - 40} more" in text
+    assert (f"(the first 64 of {n} are logged)" in text) == (n > 64)
+
+
+def test_negative_numbers_and_lists_are_values_not_flags(capsys):
+    """-inf, -nan and lists such as -10:10:3 reach the checks (argparse took them for flags)."""
+    for value in ("-inf", "-nan", "-1e3"):
+        assert main(["throw", "--tilt", value]) == 2
+        err = capsys.readouterr().err
+        assert "--tilt must be finite and in (-90, 90) degrees" in err or "--tilt must be in" in err, err
+
+
 def test_help_says_throw_simulates_flat_water_or_the_height_field():
     from jaxskip.cli import build_parser
 

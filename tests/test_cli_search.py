@@ -58,6 +58,12 @@ ROOT = Path(__file__).resolve().parent.parent
     (["sweep", "umin", "--iterations", "1", "--tilts", "5,10,"], "--tilts must be A:B:N"),
     (["sweep", "umin", "--iterations", "1", "--tilts", " , "], "--tilts must be A:B:N"),
     (["sweep", "domain", "--attacks", "10,,20"], "--attacks must be A:B:N"),
+    # (session 21) a list starting with a negative number was taken for a flag ("expected one argument");
+    # an empty --out wrote the sweep into the current folder
+    (["sweep", "umin", "--iterations", "1", "--tilts", "-95,10"], "--tilts must be finite and in (-90, 90)"),
+    (["sweep", "umin", "--iterations", "1", "--tilts", "-95:10:3"], "--tilts must be finite and in (-90, 90)"),
+    (["sweep", "domain", "--tilts", "10", "--attacks", "-95,0"], "--attacks must be finite and in [-90, 90]"),
+    (["sweep", "umin", "--iterations", "1", "--tilts", "10", "--out", ""], "--out must be a folder path, got ''"),
 ])
 def test_bad_input_exits_2(argv, word, capsys):
     assert main(argv) == 2
@@ -243,6 +249,38 @@ def test_damaged_sweep_file_exits_2_naming_it(tmp_path, capsys, name, text, prob
         assert err.startswith(f"jaxskip: error: {str(tmp_path / 's' / name)!r} is damaged ({problem}")
         assert err.count("\n") == 1 and "Traceback" not in err
         assert ("delete it" if name.startswith("chunk") else "use a new folder") in err
+
+
+def test_damaged_spec_values_exit_2_and_write_nothing(tmp_path, capsys):
+    """A spec.json whose keys are right but whose values are not (a null ``iterations``) ended merge in a
+    TypeError traceback and left a half-written folder: now exit 2 naming the file, before writing."""
+    argv = ["sweep", "umin", "--tilts", "10", "--iterations", "1", "--out", str(tmp_path / "s")]
+    assert main(argv) == 0
+    capsys.readouterr()
+    spec = tmp_path / "s" / "spec.json"
+    for key, value in (("iterations", None), ("speed_range", [3.0, 1.0]), ("spin", "fast")):
+        data = json.loads(spec.read_text())
+        good = data[key]
+        data[key] = value
+        spec.write_text(json.dumps(data))
+        assert main(["sweep", "merge", str(tmp_path / "s"), "--out", str(tmp_path / "m")]) == 2
+        err = capsys.readouterr().err
+        assert err.startswith(f"jaxskip: error: {str(spec)!r} is damaged") and "Traceback" not in err
+        assert not (tmp_path / "m").exists()
+        data[key] = good
+        spec.write_text(json.dumps(data))
+
+
+def test_a_shard_that_leaves_the_sweep_incomplete_says_there_is_no_picture(tmp_path, capsys):
+    """--plot on a shard whose sweep is not complete was skipped in silence: the run now says so."""
+    argv = ["sweep", "umin", "--tilts", "10,20", "--iterations", "1", "--out", str(tmp_path / "s"),
+            "--shard-index", "0", "--num-shards", "2", "--plot", str(tmp_path / "s.png")]
+    assert main(argv) == 0
+    assert "no picture: the sweep is not complete here" in capsys.readouterr().out
+    assert main(argv + ["--json"]) == 0
+    out, err = capsys.readouterr()
+    assert json.loads(out) == {"complete": False, "out": str(tmp_path / "s"), "plot": None}
+    assert "no picture" in err and not (tmp_path / "s.png").exists()
 
 
 def _help(argv, capsys) -> str:
