@@ -557,6 +557,10 @@ def make_water_step(grid: WaterGrid, clamp_blocks: tuple = ()):
         return start, (hi - lo < size) & (lo >= 1) & (hi <= n - 2)
 
     def step(state: WaterState, pressure, dt=None) -> WaterState:
+        # (shapes are static: checked when traced; a (ny,) pressure broadcast over the rows in silence)
+        if jnp.shape(pressure) != grid.shape or jnp.shape(state.height) != grid.shape:
+            raise ParameterError(f"pressure and state.height must have the grid's shape {grid.shape}, got "
+                                 f"{jnp.shape(pressure)} and {jnp.shape(state.height)}")
         dt = grid.time_step if dt is None else dt
         keep = 1.0 / (1.0 + dt * grid.damping)    # implicit linear damping: unconditionally stable
         h = state.height

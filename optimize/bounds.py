@@ -131,6 +131,10 @@ class Box:
 
         A value on a bound maps to ±13.8 (the logit of 1e-6 from it); one outside the box, or NaN, is
         refused."""
+        missing = [name for name in self.names if name not in values]
+        if missing:
+            raise ParameterError(f"values must give every searched parameter ({', '.join(self.names)}); "
+                                 f"missing {', '.join(missing)}")
         cols = []
         for name, lo, hi in self.searched:
             v = np.asarray(values[name], dtype=float)

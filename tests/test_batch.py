@@ -127,8 +127,13 @@ def test_pool_equals_vmapped_rollout(paper, water):
 
 def test_a_stone_planing_for_the_whole_duration_ends_by_the_time_limit(paper, water):
     """The default step budget covers ``duration`` in the water and the step that ends it: a 30 m/s throw
-    at 2 deg of tilt planes for all 5 s and ends by ``time_limit`` (with 20000 steps it ended one step
-    short, by ``step_limit``)."""
-    r = simulate(Throw.from_degrees(speed=30.0, tilt=2.0, attack=0.0), paper, water=water)
+    at 2 deg of tilt skims the water for all 5 s and ends by ``time_limit`` (with 20000 steps it ended one
+    step short, by ``step_limit``). Its hops are so low that every step is about ``dt``, but whether a
+    few of them are jumped depends on rounding (LLVM's optimisation level moved the count by 3), so
+    the budget's worst case, every step exactly ``dt``, is checked with ``flight="step"``."""
+    throw = Throw.from_degrees(speed=30.0, tilt=2.0, attack=0.0)
+    r = simulate(throw, paper, water=water)
+    assert r.outcome == "time_limit", (r.outcome, r.final_time, r.steps)
+    r = simulate(throw, paper, water=water, config=SimConfig(flight="step"))
     assert r.outcome == "time_limit", (r.outcome, r.final_time, r.steps)
     assert r.steps == math.ceil(SimConfig().duration / SimConfig().dt) + 1 <= SimConfig().max_steps

@@ -126,6 +126,12 @@ def test_a_box_built_by_hand_stores_checked_floats_in_order():
         Box((("tilt", 5.0, 45.0), ("speed", 3.0, 12.0)), (("attack", 5.0), ("spin", 20.0)))
 
 
+def test_from_user_names_a_missing_parameter():
+    box = make_box({"speed": (3.0, 12.0), "tilt": (5.0, 45.0)})
+    with pytest.raises(ParameterError, match="missing tilt"):   # was a KeyError
+        box.from_user({"speed": 5.0})
+
+
 def test_box_reparameterisation_stays_inside():
     box = make_box({"speed": (3.0, 12.0), "tilt": (5.0, 45.0)}, held={"spin": 10.0})
     t = box.to_throw(jnp.array([[-50.0, 50.0], [0.0, 0.0]]))

@@ -82,6 +82,17 @@ def test_no_column_goes_negative_in_float32(clamp):
     assert low >= 0.0
 
 
+def test_the_pure_step_checks_the_pressure_shape():
+    """make_water_step's step took a (ny,) pressure and broadcast it over the rows in silence."""
+    grid = WaterGrid(shape=(8, 6), spacing=0.01, depth=0.02)
+    step = make_water_step(grid)
+    s = still_water(grid)
+    for bad in (jnp.zeros(6), jnp.zeros((6, 8)), jnp.zeros(())):
+        with pytest.raises(ParameterError, match=r"must have the grid's shape \(8, 6\)"):
+            step(s, bad)
+    assert step(s, jnp.zeros(grid.shape)).height.shape == grid.shape
+
+
 def test_unclamped_scheme_would_go_negative():
     """Without scaling, the same scene drives columns below zero: the clamp tests are not vacuous."""
     grid, s0 = _drying("reference")
