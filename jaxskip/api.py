@@ -25,7 +25,7 @@ from ._checks import ParameterError, check_bool, check_int, check_positive, chec
 from .body import DENSITY_RANGE, RigidStone, rigid_stone
 from .forces import WaterParams, water_params
 from .mesh import TriMesh
-from .coupled import default_water_dt, initial_field, make_coupled_step
+from .coupled import check_shared_constants, default_water_dt, initial_field, make_coupled_step
 from .simulate import (_ALIVE, OUTCOMES, STEP_LIMIT, SimConfig, StoneState, Tracker, _new_tracker, _scan, initial_state,
                        make_step, warn_if_coarse)
 from .stones import BUILTIN_STONES, load_stone
@@ -375,11 +375,7 @@ def simulate(
     if water_field is not None:
         if not isinstance(water_field, WaterGrid):
             raise ParameterError(f"water_field must be a jaxskip.water.WaterGrid or None, got {water_field!r}")
-        for mine, theirs, unit in (("gravity", "gravity", "m/s^2"), ("rho", "rho_water", "kg/m^3")):
-            a, b = float(getattr(water_field, mine)), float(np.asarray(getattr(water, theirs)))
-            if not math.isclose(a, b, rel_tol=1e-6):
-                raise ParameterError(f"water_field.{mine} ({a:g} {unit}) differs from water.{theirs} ({b:g} {unit}): "
-                                     "the stone and the water it moves must share them")
+        check_shared_constants(water_field, water, name="water_field")
     compiled_before = _chunk_runner.cache_info().currsize
 
     def runner(n):

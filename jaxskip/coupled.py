@@ -259,6 +259,32 @@ def initial_field(grid: WaterGrid, position) -> Field:
     return Field(still_water(grid, dtype=dtype), offset, jnp.zeros(grid.shape, dtype), jnp.zeros((), dtype))
 
 
+def check_shared_constants(grid: WaterGrid, water: WaterParams, name: str = "grid") -> None:
+    """The grid's ``gravity`` and ``rho`` must equal ``water``'s ``gravity`` and ``rho_water`` (to 1e-6
+    relative): the stone and the water it moves share them. A traced value (inside ``jit`` or ``vmap``)
+    cannot be compared and is passed over. Raises :class:`~jaxskip.ParameterError` naming both (the grid
+    as ``name``).
+
+    >>> from jaxskip import water_params
+    >>> check_shared_constants(default_window(), water_params())                # both 9.81 m/s^2, 1000 kg/m^3
+    >>> try:
+    ...     check_shared_constants(default_window(), water_params(gravity=3.71))  # a Martian stone
+    ... except ParameterError as e:
+    ...     print(e)
+    grid.gravity (9.81 m/s^2) differs from water.gravity (3.71 m/s^2): the stone and the water it moves must share them
+    """
+    if not isinstance(water, WaterParams):
+        raise ParameterError(f"water must be a jaxskip.WaterParams (see jaxskip.water_params), got {type(water).__name__}")
+    for mine, theirs, unit in (("gravity", "gravity", "m/s^2"), ("rho", "rho_water", "kg/m^3")):
+        value = getattr(water, theirs)
+        if isinstance(value, jax.core.Tracer):
+            continue
+        a, b = float(getattr(grid, mine)), float(np.asarray(value))
+        if not math.isclose(a, b, rel_tol=1e-6):
+            raise ParameterError(f"{name}.{mine} ({a:g} {unit}) differs from water.{theirs} ({b:g} {unit}): "
+                                 "the stone and the water it moves must share them")
+
+
 def _check_config(config) -> SimConfig:
     """``config`` must be a :class:`jaxskip.SimConfig` (a clear error instead of an AttributeError inside)."""
     if not isinstance(config, SimConfig):
@@ -296,6 +322,7 @@ def rollout_coupled(config: SimConfig, grid: WaterGrid, throw: Throw, stone: Rig
     """
     _check_config(config)
     _check_grid(grid)
+    check_shared_constants(grid, water)
     state = initial_state(throw, stone)
     carry = (state, _new_tracker(config.max_contacts, state.position.dtype), initial_field(grid, state.position))
     step = make_coupled_step(config, grid, water_dt, two_way)
@@ -303,4 +330,4 @@ def rollout_coupled(config: SimConfig, grid: WaterGrid, throw: Throw, stone: Rig
     return state, tr.finish(), (recs if config.record else None), field
 
 
-__all__ = ["Field", "advance_field", "default_water_dt", "default_window", "initial_field", "make_coupled_step", "recentre", "rollout_coupled"]
+__all__ = ["Field", "advance_field", "check_shared_constants", "default_water_dt", "default_window", "initial_field", "make_coupled_step", "recentre", "rollout_coupled"]

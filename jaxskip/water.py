@@ -53,7 +53,11 @@ stiffest mode of the isotropic stencil is the checkerboard, with
 
 .. math:: \Delta t \le \Delta t_\max = \frac{\sqrt3}{2}\,\frac{l}{\sqrt{gH}} \approx 0.866\,\frac{l}{\sqrt{gH}}
 
-(:func:`stable_dt`), derived for the depth :math:`H` the waves see. Deeper
+(:func:`stable_dt`). At the bound itself the modes of a closed grid stay bounded (its edges keep
+the stiffest mode just below the endless checkerboard's frequency), but modes near it swing to many
+times their start: a 16 × 16 checkerboard of 1 µm reached 28–32 µm at the bound over :math:`10^5`
+steps without growing further, against 3 µm at the default ``cfl`` of 0.5 (tested). The bound is
+derived for the depth :math:`H` the waves see. Deeper
 water anywhere (a crest) shortens it; :class:`WaterGrid` holds ``dt`` to
 ``cfl`` (default 0.5) of the bound at the rest depth and refuses a ``dt`` beyond
 the bound; :func:`water_substeps` gives the substeps that keep a longer interval

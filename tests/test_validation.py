@@ -188,7 +188,7 @@ def _bad_inputs():
     import numpy as np
 
     from jaxskip import WaterGrid, WaterParams, height_at, simulate_batch
-    from jaxskip.coupled import default_window
+    from jaxskip.coupled import default_window, rollout_coupled
     from optimize import grid_search, make_box
     from optimize.bounds import Box
     from optimize.objectives import make_objective
@@ -204,6 +204,10 @@ def _bad_inputs():
          r"every field of a Throw must have the same shape, got speed \(3,\), tilt \(3,\), attack \(2,\)"),
         (lambda: simulate(water_field=dataclasses_replace(default_window(), gravity=3.7)),
          r"water_field.gravity \(3.7 m/s\^2\) differs from water.gravity \(9.81"),
+        # the pure coupled rollout checks it too (the grid moved water of density 1000 under a stone loaded by 1025)
+        (lambda: rollout_coupled(SimConfig(), default_window(), one, rigid_stone(paper_stone(), density=2650.0),
+                                 water_params(rho_water=1025.0)),
+         r"grid.rho \(1000 kg/m\^3\) differs from water.rho_water \(1025 kg/m\^3\)"),
         # an open mesh used to simulate with a wrong mass (0.118 against 0.121 kg)
         (lambda: simulate(stone=_open_paper_mesh()), "open paper"),
         (lambda: SimConfig(dt=1e-3, max_flight_step=1e-5), r"max_flight_step must be >= dt \(0.001 s\)"),
