@@ -102,7 +102,7 @@ def add_common(p, *, stone="paper", attitude="free", plot="write a picture (PNG/
     p.add_argument("--max-steps", type=int, metavar="N",
                    help=f"step budget, in [1, {MAX_STEPS}] (default: enough to spend --duration in the water at "
                         f"--dt; {SimConfig().max_steps} at the defaults)")
-    p.add_argument("--json", action="store_true", help="print one JSON object on stdout")
+    p.add_argument("--json", action="store_true", help="print one JSON object on stdout (progress, shown when stderr is a terminal, goes to stderr)")
     p.add_argument("--plot", metavar="PATH", help=plot)
 
 
@@ -253,7 +253,7 @@ def _throw(args) -> int:
                                height=args.height, heading=args.heading)
     values = sim_values(args)
     config, water, stone = simulation(**values)
-    progress = sys.stderr.isatty() and not args.json
+    progress = sys.stderr.isatty()  # on stderr: stdout keeps its one JSON object
     field = None
     if args.water == "field":
         from .coupled import default_window

@@ -203,7 +203,7 @@ def run_optimize(args) -> int:
              for d, users in METHOD_FLAGS.items() if args.method in users}
     search = {GRADIENT: gradient_search, PERTURBATION: perturbation_search, GRID: grid_search,
               RANDOM: random_search}[args.method]
-    progress = sys.stderr.isatty() and not args.json
+    progress = sys.stderr.isatty()  # on stderr: stdout keeps its one JSON object
     if progress and args.method == GRADIENT:
         print("compiling the gradient (once) ...", file=sys.stderr, flush=True)
     r = search(box, stone=rigid, config=config, water=water, progress=progress,
@@ -289,7 +289,7 @@ def run_sweep_command(args) -> int:
         given = {d: getattr(args, d) for d in SWEEP_FLAGS
                  if d not in ("tilts", "attacks", "shard_index", "num_shards") and getattr(args, d) is not None}
         spec = make_spec(args.kind, tilts=tilts, attacks=attacks, **given)  # everything validated here
-        progress = sys.stderr.isatty() and not args.json
+        progress = sys.stderr.isatty()  # on stderr: stdout keeps its one JSON object
         # given values are checked by run_sweep (--num-shards 0 is refused, not taken for 1)
         shard = 0 if args.shard_index is None else args.shard_index
         shards = 1 if args.num_shards is None else args.num_shards

@@ -197,6 +197,16 @@ def test_progress_line_before_the_animation_is_written(tmp_path, monkeypatch, ca
     assert written[1] == ""
 
 
+def test_json_on_a_terminal_keeps_progress_on_stderr(monkeypatch, capsys):
+    """--json with stderr on a terminal: stdout is exactly one JSON object and the progress lines go to
+    stderr (a long --water field or sweep run was silent with --json)."""
+    monkeypatch.setattr(sys.stderr, "isatty", lambda: True)
+    assert main(["throw", "--json", "--duration", "0.05"]) == 0
+    out, err = capsys.readouterr()
+    assert json.loads(out)["outcome"] == "time_limit"
+    assert "simulated" in err and "{" not in err
+
+
 def test_the_table_counts_every_contact_left_out(capsys):
     """Past 40 rows the table says how many contacts follow, counted from all contacts, not from the
     logged ones (SimConfig.max_contacts = 64): a 71-contact throw said "... 24 more" instead of 31."""
