@@ -46,6 +46,8 @@ import numpy as np
 RUNNING, SANK, STOPPED, FLIPPED, TIME_LIMIT, STEP_LIMIT = 0, 1, 2, 3, 4, 5
 OUTCOMES = ("running", "sank", "stopped", "flipped", "time_limit", "step_limit")
 AIR, WET, LEAVING = 0, 1, 2
+# Free-rotation substeps and the axisymmetry tolerance of a jump's rotation cap: as jaxskip.simulate.
+FREE_ROTATION_SUBSTEPS, ASYMMETRY_TOLERANCE = 2, 1e-6
 
 THROW_FIELDS = ("speed", "tilt", "attack", "spin", "height", "heading")
 
@@ -185,7 +187,7 @@ def quat_normalize(q):
     return q / np.sqrt(q[:, 0] * q[:, 0] + q[:, 1] * q[:, 1] + q[:, 2] * q[:, 2] + q[:, 3] * q[:, 3])[:, None]
 
 
-def free_rotation(q, L, stone: NpStone, h, substeps: int = 2):
+def free_rotation(q, L, stone: NpStone, h, substeps: int = FREE_ROTATION_SUBSTEPS):
     """Torque-free rotation over ``h`` (B,): exact symmetric-top flow, Strang-split asymmetry.
 
     Same splitting as :func:`jaxskip.simulate.free_rotation`: per substep a half
@@ -382,6 +384,13 @@ def step(state: dict, tr: dict, stone: NpStone, water: NpWater, config) -> tuple
     arg = np.where(dry, b * b + 2.0 * g * gap, 1.0)
     t_star = np.where(dry, (b + np.sqrt(arg)) / g, 0.0)
     dt = np.clip(t_star, config.dt, config.max_flight_step)
+    # A jump's free-rotation substeps turn the body-frame L by at most 90 deg (jaxskip.simulate.rotation_cap).
+    inv = np.diagonal(stone.inv_inertia)
+    c2, c3 = inv[1] - inv[0], inv[2] - inv[0]
+    rate = np.abs(_sum3(L * R[:, :, 2]) * c3)
+    capped = (abs(c2) > ASYMMETRY_TOLERANCE * abs(c3)) & (rate > 0.0)
+    cap = np.where(capped, FREE_ROTATION_SUBSTEPS * (0.5 * np.pi) / np.where(capped, rate, 1.0), np.inf)
+    dt = np.maximum(np.minimum(dt, cap), config.dt)
 
     # Contact bookkeeping at the start of the step.
     alive0 = tr["alive"]
