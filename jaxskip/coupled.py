@@ -19,11 +19,12 @@ A lake is huge; a contact patch is a few stone widths. The water here is a
 window of ``grid.shape`` columns that follows the stone: before each step it
 is re-centred, by whole columns, on the stone's centre of mass (the arrays are
 shifted; columns entering the window are still water). Its border is a sponge
-(``WaterGrid(boundary="sponge")``) so ripples leave rather than reflect. Between
-contacts the stone flies ~10-100 stone widths, ripples travel at
-:math:`\sqrt{gH}` (~0.5 m/s), so each contact meets still water: ripples of
-an earlier contact never reach the next one, and the window never needs to
-hold them.
+(``WaterGrid(boundary="sponge")``) so ripples leave rather than reflect. A long
+hop (the default throw's first: 0.72 m, ~7 stone widths, 0.1 s) outruns the ripples,
+which travel at :math:`\sqrt{gH}` (~0.5 m/s), and meets still water; short hops do
+not: the default throw's 17 later flights cover under half a stone width in 1-7 ms,
+so the stone lands in its own wake, which the window (centred on the stone, ~6
+stone diameters wide) holds.
 
 Time steps (multirate)
 ----------------------

@@ -59,8 +59,10 @@ def test_steep_tilt_does_not_skip_at_clanet_conditions(paper, water):
 
 
 @pytest.mark.xfail(strict=True, reason=(
-    "Known miss: with Bocquet's law the net lift coefficient C_l cos(tilt) - C_f sin(tilt) stays "
-    "positive up to atan(C_l/C_f) = 73 deg, so at 10 m/s a stone tilted 60-70 deg still skips (measured: "
+    "Known miss: on a face in horizontal flow the coded Bocquet law's vertical force is "
+    "1/2 rho V^2 S cos(tilt) (C_l - C_f sin(tilt)), upwards at every tilt below 90 deg (C_f < C_l; with "
+    "physics.md's V^2 friction it would stay upwards to atan(C_l/C_f) = 73 deg), so at 10 m/s a stone "
+    "tilted 60-70 deg still skips (measured: "
     "1-4 bounces at 5-10 deg attack, none at 20 deg). Clanet's ~45 deg limit was measured at 3.5 m/s and "
     "20 deg attack (at 2-5 deg attack the model's 60-70 deg stone bounces once even at 3.5 m/s)."))
 def test_steep_tilt_does_not_skip_when_fast(paper, water):
