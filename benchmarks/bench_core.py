@@ -88,7 +88,8 @@ MODES = {
     },
 }
 """Sizes per mode. 12000 steps (SimConfig().max_steps until session 14; every throw here ends sooner); the grid is 64 x 64 in both modes (fewer steps
-in quick mode, extrapolated); ``--grid-steps`` overrides the grid's steps (12000 measures to completion)."""
+in quick mode, extrapolated); ``--grid-steps`` overrides the grid's steps (``SimConfig().max_steps``, 20250, measures
+to completion; fewer are extrapolated to it)."""
 
 TILT_RANGE = (5.0, 45.0)  # deg
 ATTACK_RANGE = (0.0, 30.0)  # deg
@@ -1010,7 +1011,7 @@ def main(argv=None):
     ap.add_argument("--sections", help="comma-separated subset of: single,cold,grid,pool,breakdown,throughput,numpy,"
                     "gradient,check "
                     "(SECTION:f32 or SECTION:f64 for one dtype)")
-    ap.add_argument("--grid-steps", type=int, help="steps for the 4096-throw grid (12000: to completion, ~3 min)")
+    ap.add_argument("--grid-steps", type=int, help="steps for the 4096-throw grid (20250, SimConfig().max_steps: to completion; fewer are extrapolated)")
     ap.add_argument("--worker", help=argparse.SUPPRESS)
     ap.add_argument("--dtype", default="f32", help=argparse.SUPPRESS)
     ap.add_argument("--params", help=argparse.SUPPRESS)

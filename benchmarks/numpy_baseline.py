@@ -391,6 +391,7 @@ def step(state: dict, tr: dict, stone: NpStone, water: NpWater, config) -> tuple
     capped = (abs(c2) > ASYMMETRY_TOLERANCE * abs(c3)) & (rate > 0.0)
     cap = np.where(capped, FREE_ROTATION_SUBSTEPS * (0.5 * np.pi) / np.where(capped, rate, 1.0), np.inf)
     dt = np.maximum(np.minimum(dt, cap), config.dt)
+    dt = np.minimum(dt, np.maximum(config.duration - t, config.dt))  # a jump never passes the duration
 
     # Contact bookkeeping at the start of the step.
     alive0 = tr["alive"]
