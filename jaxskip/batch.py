@@ -98,6 +98,15 @@ def _pool(config: SimConfig, lanes: int, chunk: int):
     return jax.jit(advance), jax.jit(start), jax.jit(refill)
 
 
+MIN_LANES_PER_DEVICE = 8
+"""Fewest lanes a device advances. XLA:CPU compiles a batch of 1-4 lanes per device differently from a
+wider one, and the results differ at rounding level, which a long, chaotic throw's count amplifies:
+on the development machine (float64, 256 random throws near the box's best corner) 1 / 2-4 lanes a
+device gave other bits than 5-256 lanes, which all agreed to the bit, and 68-74 of the 256 counts
+changed. A pool of at least 8 lanes a device (idle lanes ride along) makes a throw's numbers
+independent of the batch it is in, of ``lanes``, of a sweep's chunk size and of the device count."""
+
+
 def _lane_sharding():
     """Shard the lane axis over every local device (``None`` with one device)."""
     devices = jax.local_devices()
@@ -133,8 +142,9 @@ def simulate_batch(
     water : :class:`WaterParams`; default ``water_params(config.force.law)``.
     config : :class:`SimConfig` (its ``record`` is ignored: no trajectories are kept; a ``dt`` above 1 ms
         is valid but unconverged: an :class:`jaxskip.AccuracyWarning` says so).
-    lanes : throws advanced together (the vmapped batch), an integer in [1, 10^6]; at most N, rounded up to a multiple of the
-        device count (so a few idle lanes may ride along). Default
+    lanes : throws advanced together (the vmapped batch), an integer in [1, 10^6]; at most N, then raised to at
+        least :data:`MIN_LANES_PER_DEVICE` per device and rounded up to a multiple of the device count (idle lanes
+        ride along), so that a throw's numbers do not depend on N, on ``lanes`` or on the device count. Default
         (``None``): :func:`default_lanes` of N and the device count — about N/64 lanes per
         device, a power of two in [8, 256]. With several local JAX devices (``import jaxskip``
         makes one CPU device per core) the lanes are sharded over all of them
@@ -173,7 +183,7 @@ def simulate_batch(
     rigid, _ = resolve_stone(stone, mass=mass, density=density)
 
     n = throws.shape[0]
-    lanes = min(lanes, n)
+    lanes = max(min(lanes, n), MIN_LANES_PER_DEVICE * n_devices)
     lanes = -(-lanes // n_devices) * n_devices
     advance, start, refill = _pool(config, lanes, chunk)
     host_throws = jax.tree_util.tree_map(np.asarray, throws)

@@ -149,8 +149,11 @@ def _check_used(args, label: str, choice: str, table: dict) -> None:
 
 def _values(text: str, name: str) -> list:
     """``"A:B:N"`` -> N values from A to B; ``"A,B,C"`` -> the list (degrees). Refused, naming the flag: an
-    empty text, an empty item (``5,,10``, ``5,``), anything that is not a number."""
+    empty text, an empty item (``5,,10``, ``5,``), anything that is not a number, more than
+    :data:`optimize.sweep.MAX_ANGLES` values."""
     import numpy as np
+
+    from optimize.sweep import MAX_ANGLES
 
     try:
         if ":" in text:
@@ -158,14 +161,17 @@ def _values(text: str, name: str) -> list:
             n = int(n)
             if n < 1:
                 raise ValueError
-            return np.linspace(float(a), float(b), n).round(10).tolist()
-        items = text.split(",")
-        if any(not v.strip() for v in items):
-            raise ValueError
-        return [float(v) for v in items]
+            if n <= MAX_ANGLES:
+                return np.linspace(float(a), float(b), n).round(10).tolist()
+        else:
+            items = text.split(",")
+            if any(not v.strip() for v in items):
+                raise ValueError
+            return [float(v) for v in items]
     except ValueError:
         raise ParameterError(f"{name} must be A:B:N (N >= 1 values from A to B) or a comma list of numbers such as "
                              f"5,10,20 (no empty items), got {text!r}") from None
+    raise ParameterError(f"{name} A:B:N must have N <= {MAX_ANGLES}, got {text!r}")
 
 
 def run_optimize(args) -> int:
@@ -326,7 +332,9 @@ def run_sweep_command(args) -> int:
         if result["best_tilt"] is not None:
             u, res = result["best_umin"], result["resolution"]
             if u <= low:
-                where = f"it bounces at the bracket's low end: U_min <= {low:g} m/s (lower --speed-range)"
+                tied = [f"{t:g}" for t, n in zip(spec["tilts"], result["bounces_at_low"]) if n > 0]
+                where = (f"it bounces at the bracket's low end: U_min <= {low:g} m/s, as at tilts {', '.join(tied)} "
+                         f"deg; the minimum lies among them (lower --speed-range)")
             else:
                 # the bisection's answer is its final bracket's top (a speed that bounces): the true value lies
                 # within one bracket width below it

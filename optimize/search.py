@@ -392,7 +392,7 @@ def gradient_search(box: Box | None = None, *, objective: str = "bounces", stone
     if progress:
         print(file=sys.stderr)
     if polish:
-        forward += _polish(box, history, min(4, starts), polish, polish_scale, rigid, config, water, seed, progress,
+        forward += _polish(box, history, 4, polish, polish_scale, rigid, config, water, seed, progress,
                            best, iterations + 1)
     return SearchResult("gradient", best.throw, best.bounces, history, box, time.perf_counter() - t0, forward,
                         starts * iterations, t_grad, t_compile, best.distance, objective)
@@ -592,7 +592,7 @@ def perturbation_search(box: Box | None = None, *, stone="paper", config: SimCon
     if progress:
         print(file=sys.stderr)
     if polish:
-        forward += _polish(box, visited, min(4, starts), polish, polish_scale, rigid, config, water, seed, progress,
+        forward += _polish(box, visited, 4, polish, polish_scale, rigid, config, water, seed, progress,
                            best, iterations)
         history.append(visited[-1])
     return SearchResult("perturbation", best.throw, best.bounces, history, box, time.perf_counter() - t0, forward, 0,

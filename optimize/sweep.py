@@ -20,9 +20,10 @@ their reference spin, impact angle :math:`\beta = 20°` and speed 3.5 m/s.
   (``best_tilt_fit``, ``best_umin_fit`` in a U_min sweep's result).
 
 Scale: the work is cut into chunks (by default about :data:`CHUNKS` of them,
-:func:`default_chunk_size`; in float64, the CLI's precision, chunking changes no number; in float32 a
-throw's numbers may move at rounding level with its chunk's size, which sets the compiled batch, and a
-long, chaotic throw's count with them); each finished chunk is written atomically (temporary
+:func:`default_chunk_size`; neither the chunk size nor the number of devices changes a number on a
+given machine: every device advances at least :data:`jaxskip.batch.MIN_LANES_PER_DEVICE` lanes, and XLA:CPU
+rounds alike for every batch that wide; another kind of machine may round differently, and a long,
+chaotic throw's count with it); each finished chunk is written atomically (temporary
 file + ``os.replace``) to ``out_dir/chunk-NNNNN.json`` and a re-run loads it
 instead of computing it again, so an interrupted sweep resumes where it stopped
 and gives the same file as an uninterrupted one. With
@@ -46,6 +47,7 @@ import sys
 from collections.abc import Iterable
 from pathlib import Path
 
+import jax
 import numpy as np
 
 from jaxskip import Throw, simulate_batch
@@ -94,8 +96,13 @@ def _check_throws(name: str, value) -> np.ndarray:
     return check_array(name, value, low, high, unit=unit, low_open=low_open, high_open=high_open)
 
 
+MAX_ANGLES = 100_000
+"""Most tilts, or attacks, a sweep takes (a domain sweep's grid is their product: at most 10^7 points)."""
+MAX_GRID = 10_000_000
+
+
 def _angles(name: str, values) -> tuple:
-    """``values`` (a number or a 1-D sequence of them) as a non-empty tuple of floats."""
+    """``values`` (a number or a 1-D sequence of them, at most :data:`MAX_ANGLES`) as a non-empty tuple of floats."""
     try:
         raw = np.atleast_1d(np.asarray(values))
         arr = raw.astype(float) if raw.dtype.kind in "iuf" else None  # not text, not True/False
@@ -103,6 +110,8 @@ def _angles(name: str, values) -> tuple:
         arr = None
     if arr is None or arr.ndim != 1 or arr.size == 0:
         raise ParameterError(f"{name} must be a number or a non-empty list of numbers [deg], got {values!r}")
+    if arr.size > MAX_ANGLES:
+        raise ParameterError(f"{name} must hold at most {MAX_ANGLES} angles, got {arr.size}")
     return tuple(float(v) for v in arr)
 
 
@@ -160,7 +169,8 @@ class SweepSpec:
     """Step budget per throw (resolved)."""
     config: dict
     """The resolved simulation configuration (:func:`jaxskip.settings.describe`: the stone's mass, the law's
-    coefficients, ...), as ``jaxskip optimize --json`` reports it."""
+    coefficients, ...), as ``jaxskip optimize --json`` reports it, and ``precision``: ``"float64"`` or
+    ``"float32"``, what the sweep is computed in (a resume or a merge in the other is refused)."""
 
     def to_dict(self) -> dict:
         """The spec as a JSON-ready dict (what ``out_dir/spec.json`` holds): every field by its name, user
@@ -210,6 +220,9 @@ def make_spec(kind: str, *, tilts, attacks=(REFERENCE["attack"],), speed: float 
     attacks = _angles("attacks", attacks)
     if kind == "umin" and len(attacks) != 1:
         raise ParameterError(f"a umin sweep takes one attack angle, got {len(attacks)}")
+    if len(tilts) * len(attacks) > MAX_GRID:
+        raise ParameterError(f"tilts and attacks: their grid must have at most {MAX_GRID} points, got "
+                             f"{len(tilts)} x {len(attacks)}")
     lo, hi = check_interval("speed_range", speed_range, 0.0, MAX_SPEED, unit="m/s")
     if lo <= 0.0:
         raise ParameterError(f"speed_range must start above 0 m/s, got {lo}")
@@ -230,7 +243,12 @@ def make_spec(kind: str, *, tilts, attacks=(REFERENCE["attack"],), speed: float 
     chunk_size = check_int("chunk_size", chunk_size, minimum=1)
     return SweepSpec(kind=kind, tilts=tilts, attacks=attacks, speed=float(speed), speed_range=(lo, hi),
                      iterations=iterations, spin=float(spin), chunk_size=chunk_size, **sim,
-                     config=describe(stone, config, water, rigid))
+                     config={**describe(stone, config, water, rigid), "precision": _precision()})
+
+
+def _precision() -> str:
+    """``"float64"`` or ``"float32"``: what this process computes a sweep in (``jax_enable_x64``)."""
+    return "float64" if jax.config.jax_enable_x64 else "float32"
 
 
 def _sim(spec: SweepSpec):
@@ -384,6 +402,9 @@ def run_sweep(spec: SweepSpec, out_dir=None, *, shard_index: int = 0, num_shards
 
 def _out_folder(out_dir) -> Path:
     """``out_dir`` as a Path, refused unless it is a folder or can be made one in an existing folder."""
+    if isinstance(out_dir, str) and not out_dir.strip():
+        # (Path("") is the current folder: the sweep's files would land among the user's)
+        raise ParameterError(f"out_dir must be a folder path, got {out_dir!r}")
     try:
         out = Path(out_dir)
     except TypeError:
@@ -458,6 +479,12 @@ def _check_spec_file(out: Path, spec: SweepSpec) -> None:
     if path.exists():
         old, new = _read_spec(path), json.loads(text)
         if old != new:
+            was, now = (d.get("config", {}).get("precision") for d in (old, new))
+            if was != now and was in ("float64", "float32"):
+                raise ParameterError(f"out_dir {str(out)!r} holds a sweep computed in {was}, and this process computes "
+                                     f"in {now}: resume it in {was} (jax.config.update('jax_enable_x64', "
+                                     f"{was == 'float64'}) before any JAX work; the CLI computes in float64), "
+                                     "or use a new folder")
             keys = sorted(k for k in old.keys() | new.keys() if old.get(k) != new.get(k))
             # (what it holds: the resolved configuration's values, then the sweep's own that are not in it)
             config = {k: v for k, v in sorted(old.get("config", {}).items()) if new.get("config", {}).get(k) != v}
@@ -558,7 +585,7 @@ def assemble(spec: SweepSpec, chunks: list[dict]) -> dict:
     A U_min sweep's result: ``umin`` per tilt [m/s] (None: no bounce up to the bracket's top),
     ``best_tilt`` [deg] / ``best_umin`` [m/s] the lowest grid point, ``best_tilt_fit`` /
     ``best_umin_fit`` the minimum between grid points (:func:`parabola_minimum`; None at the
-    sweep's edge), ``resolution`` the width of the bisection's final bracket [m/s]. Each ``umin`` is
+    sweep's edge, and None when any tilt bounces at the bracket's low end), ``resolution`` the width of the bisection's final bracket [m/s]. Each ``umin`` is
     that bracket's top (a speed that bounces), so the true minimal speed lies in
     ``(umin - resolution, umin]``; where the bracket's low end already bounces
     (``bounces_at_low`` > 0), ``umin`` is that low end and the true value lies at or below it.
@@ -575,8 +602,11 @@ def assemble(spec: SweepSpec, chunks: list[dict]) -> dict:
         umin = cat("umin")
         finite = [(u, t) for u, t in zip(umin, spec.tilts) if u is not None]
         best = min(finite) if finite else (None, None)
-        fit = parabola_minimum(spec.tilts, umin)
-        result.update(umin=umin, bounces_at_high=cat("bounces_at_high"), bounces_at_low=cat("bounces_at_low"),
+        at_low = cat("bounces_at_low")
+        # Where the bracket's low end bounces, umin is only a bound (the true value is at or below it), and
+        # the true minimum lies at such a tilt: no parabola through bounds.
+        fit = (None, None) if any(n > 0 for n in at_low) else parabola_minimum(spec.tilts, umin)
+        result.update(umin=umin, bounces_at_high=cat("bounces_at_high"), bounces_at_low=at_low,
                       best_tilt=best[1], best_umin=best[0], best_tilt_fit=fit[0], best_umin_fit=fit[1],
                       resolution=(spec.speed_range[1] - spec.speed_range[0]) / 2**spec.iterations)
     return result
@@ -594,10 +624,12 @@ def write_results(result: dict, out: Path) -> None:
                 tc = result["first_contact_time"][i][k]
                 rows.append([t, a, spec["speed"], spec["spin"], result["bounces"][i][k], "" if tc is None else tc])
     else:
-        rows.append(["tilt_deg", "attack_deg", "spin_rev_s", "umin_m_s", "bounces_at_high"])
+        # bounces_at_low > 0: the bracket's low end bounces already, umin_m_s is only an upper bound
+        rows.append(["tilt_deg", "attack_deg", "spin_rev_s", "umin_m_s", "bounces_at_high", "bounces_at_low"])
         for i, t in enumerate(spec["tilts"]):
             u = result["umin"][i]
-            rows.append([t, spec["attacks"][0], spec["spin"], "" if u is None else u, result["bounces_at_high"][i]])
+            rows.append([t, spec["attacks"][0], spec["spin"], "" if u is None else u, result["bounces_at_high"][i],
+                         result["bounces_at_low"][i]])
     from io import StringIO
 
     buf = StringIO()

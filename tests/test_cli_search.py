@@ -64,6 +64,10 @@ ROOT = Path(__file__).resolve().parent.parent
     (["sweep", "umin", "--iterations", "1", "--tilts", "-95:10:3"], "--tilts must be finite and in (-90, 90)"),
     (["sweep", "domain", "--tilts", "10", "--attacks", "-95,0"], "--attacks must be finite and in [-90, 90]"),
     (["sweep", "umin", "--iterations", "1", "--tilts", "10", "--out", ""], "--out must be a folder path, got ''"),
+    # (session 22) an oversized A:B:N ended in a MemoryError traceback (7.28 TiB for 10^12 tilts)
+    (["sweep", "umin", "--tilts", "5:60:1000000000000"], "--tilts A:B:N must have N <= 100000"),
+    (["sweep", "domain", "--tilts", "5:60:100000", "--attacks", "0:30:1000"],
+     "their grid must have at most 10000000 points, got 100000 x 1000"),
 ])
 def test_bad_input_exits_2(argv, word, capsys):
     assert main(argv) == 2
@@ -327,7 +331,8 @@ def test_umin_text_words_the_bisection_bracket(tmp_path, capsys):
     assert main(["sweep", "umin", "--tilts", "20,60", "--iterations", "1", "--speed-range", "2.5", "8"]) == 0
     text = capsys.readouterr().out
     assert "tilt   20.0 deg: U_min <= 2.5 m/s (bounces at the bracket's low end)" in text
-    assert "magic angle: 20 deg, U_min 2.50 m/s (it bounces at the bracket's low end: U_min <= 2.5 m/s" in text
+    assert ("magic angle: 20 deg, U_min 2.50 m/s (it bounces at the bracket's low end: U_min <= 2.5 m/s, as at "
+            "tilts 20 deg; the minimum lies among them (lower --speed-range))") in text
 
 
 def test_count_flags_show_the_ranges_that_are_checked(capsys):

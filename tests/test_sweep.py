@@ -172,6 +172,49 @@ def test_folder_of_another_sweep_is_refused(tmp_path):
         run_sweep(spec, tmp_path)
 
 
+def test_an_empty_out_dir_is_refused(tmp_path, monkeypatch):
+    """run_sweep(spec, "") wrote chunk and result files into the current folder (Path("") is "."); the CLI
+    refused an empty --out, the API did not. Big grids are refused before any work too."""
+    monkeypatch.chdir(tmp_path)
+    spec = make_spec("domain", tilts=[20.0], attacks=[20.0], speed=3.5)
+    for empty in ("", "  "):
+        with pytest.raises(ParameterError, match="out_dir must be a folder path, got"):
+            run_sweep(spec, empty)
+    assert list(tmp_path.iterdir()) == []
+    with pytest.raises(ParameterError, match="tilts must hold at most 100000 angles, got 100001"):
+        make_spec("umin", tilts=np.linspace(5.0, 60.0, 100_001))
+
+
+def test_no_parabola_through_speeds_that_are_only_bounds(tmp_path):
+    """Where the bracket's low end already bounces, U_min is only a bound (<= low): the fit drew a parabola
+    through such bounds and put the magic angle at 12 deg, 1.79 m/s (a wide bracket: 14 deg, 1.76 m/s).
+    The CSV says which speeds are bounds."""
+    from optimize.sweep import assemble, write_results
+
+    spec = make_spec("umin", tilts=[6.0, 12.0, 18.0, 24.0], speed_range=(1.85, 6.0), iterations=6)
+    chunk = {"umin": [2.30, 1.85, 1.85, 2.04], "bounces_at_high": [1, 1, 1, 1], "bounces_at_low": [0, 1, 1, 0]}
+    r = assemble(spec, [chunk])
+    assert r["best_tilt_fit"] is None and r["best_umin_fit"] is None and r["best_umin"] == 1.85
+    write_results(r, tmp_path)
+    rows = (tmp_path / "result.csv").read_text().splitlines()
+    assert rows[0].endswith(",umin_m_s,bounces_at_high,bounces_at_low") and rows[2].endswith(",1.85,1,1")
+    r = assemble(spec, [dict(chunk, bounces_at_low=[0, 0, 0, 0], umin=[2.30, 1.90, 1.88, 2.04])])
+    assert 12.0 < r["best_tilt_fit"] < 18.0  # measured speeds: the parabola stands
+
+
+def test_a_sweep_is_resumed_and_merged_only_in_its_precision(tmp_path):
+    """spec.json pins the precision a sweep is computed in: a float32 folder (written by the API without
+    x64) was resumed in float64, or merged with a float64 shard, without a word."""
+    spec = make_spec("domain", tilts=[20.0], attacks=[20.0], speed=3.5)
+    assert spec.config["precision"] == "float64"  # the tests compute in float64
+    data = spec.to_dict()
+    data["config"]["precision"] = "float32"
+    (tmp_path / "spec.json").write_text(json.dumps(data, sort_keys=True, indent=1))
+    with pytest.raises(ParameterError, match=r"holds a sweep computed in float32, and this process computes in "
+                                             r"float64: resume it in float32"):
+        run_sweep(spec, tmp_path)
+
+
 def test_default_chunks_resume_and_shard_without_changing_the_numbers(tmp_path):
     """By default a sweep is cut into about CHUNKS chunks (a domain chunk holds at least DOMAIN_CHUNK
     grid points): a default sweep resumes and shards, and gives the numbers of one chunk."""
