@@ -120,7 +120,9 @@ class ThrowResult:
     ``velocity`` (N, 3) [m/s], ``angular_velocity`` (N, 3) [rad/s] (world frame), ``wetted_area``
     (N,) [m^2], ``force`` (N, 3) [N] (water force on the stone, world frame, gravity not included;
     :attr:`jaxskip.Record.force`). Steps are not evenly spaced (fine in contact, long jumps in
-    flight): :func:`jaxskip.export.frames` resamples them."""
+    flight): :func:`jaxskip.export.frames` resamples them. The last row is the final state (a throw that
+    ran out of steps in play gets it as an extra row, its wetted area and force held from the step
+    before)."""
     throw: Throw
     """The throw simulated (SI, shape ())."""
     config: SimConfig
@@ -426,6 +428,13 @@ def simulate(
     n_alive = int(np.sum([np.sum(np.diff(r.time, prepend=-1.0) > 0) for r in records]))
     traj = {k: np.concatenate([getattr(r, k) for r in records])[:n_alive] for k in
             ("time", "position", "orientation", "wetted_area", "force", "velocity", "angular_velocity")}
+    if tr.alive:
+        # Out of steps while in play: the last step moved the state, which no record holds (an ended throw's
+        # last record is its final state). Append it, its wetted area and force held from that step.
+        for k in ("time", "position", "orientation", "velocity", "angular_velocity"):
+            traj[k] = np.concatenate([traj[k], np.asarray(getattr(state, k))[None]])
+        for k in ("wetted_area", "force"):
+            traj[k] = np.concatenate([traj[k], traj[k][-1:]])
     outcome = OUTCOMES[STEP_LIMIT] if tr.alive else OUTCOMES[int(tr.outcome)]
     end_time = float(state.time)
     k = min(int(tr.contacts), config.max_contacts)

@@ -37,13 +37,23 @@ class NotebookRun:
         print(f"figure: {path}; {time.perf_counter() - self.started:.0f} s ({'quick' if self.quick else 'full'} mode)")
 
 
-def notebook_mode(name: str, default_out: str) -> NotebookRun:
-    """Read the mode from the environment, make the figure folder, switch on float64 and a file backend."""
+def notebook_mode(name: str, default_out: str | None = None, here: str | None = None) -> NotebookRun:
+    """Read the mode from the environment, make the figure folder, switch on float64 and, run as a script,
+    a file backend (in a Jupyter kernel the inline backend stays, so figures show).
+
+    Figures go to ``JAXSKIP_NOTEBOOK_OUT``, else ``default_out``, else ``figures/`` beside ``here`` (the
+    notebook's file: pass ``globals().get("__file__")``, which a Jupyter kernel does not define), else
+    ``figures/`` in the working folder (a kernel's is the notebook's folder)."""
+    import sys
+
     import jax
     import matplotlib
 
-    matplotlib.use("Agg")
+    if "ipykernel" not in sys.modules:
+        matplotlib.use("Agg")
     jax.config.update("jax_enable_x64", True)
+    if default_out is None:
+        default_out = os.path.join(os.path.dirname(os.path.abspath(here)) if here else os.getcwd(), "figures")
     out = os.environ.get("JAXSKIP_NOTEBOOK_OUT", default_out)
     os.makedirs(out, exist_ok=True)
     return NotebookRun(name, os.environ.get("JAXSKIP_QUICK") == "1", out, time.perf_counter())

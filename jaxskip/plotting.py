@@ -57,6 +57,7 @@ def plot_throw(result, path=None, *, ax=None):
     """
     import matplotlib
 
+    _check_result(result)
     if path is not None and ax is None:
         matplotlib.use("Agg", force=False)
     import matplotlib.pyplot as plt
@@ -72,7 +73,6 @@ def plot_throw(result, path=None, *, ax=None):
 
     xlim = _downrange_limits(x)
     side.axhline(0.0, color="#2f6fb0", lw=1.2, label="water surface")
-    side.fill_between(xlim, -0.05, 0.0, color="#cfe3f5", zorder=0)
     side.plot(x, z * 100, color="0.2", lw=1.0, label="centre of mass")
     if wet.any():
         logged = len(result.contacts)
@@ -87,7 +87,9 @@ def plot_throw(result, path=None, *, ax=None):
     side.set_ylabel("height [cm]")
     top_cm = max(z.max() * 100 * 1.15, 2.0)
     # room under the water line for three rows of contact numbers and the legend's row
-    side.set_ylim(min(-2.0, z.min() * 100 - 0.5, -0.45 * top_cm), top_cm)
+    bottom = min(-2.0, z.min() * 100 - 0.5, -0.45 * top_cm)
+    side.set_ylim(bottom, top_cm)
+    side.fill_between(xlim, bottom, 0.0, color="#cfe3f5", zorder=0)   # the water, down to the axis' bottom [cm]
     th = result.throw
     throw = (f"{result.stone_name} stone, {result.mass * 1e3:.1f} g: "
              f"{float(th.speed):.1f} m/s, tilt {math.degrees(float(th.tilt)):.1f}°, "
@@ -202,7 +204,8 @@ def plot_water(result, stone, path=None, *, frame=None):
     result : a :class:`jaxskip.api.ThrowResult` from ``simulate(..., water_field=...)``.
     stone : the :class:`jaxskip.RigidStone` that was thrown (drawn at the frame's pose).
     path : if given, save there (PNG/PDF/SVG) and close the figure.
-    frame : index into ``result.field["frames"]``; default the most disturbed frame.
+    frame : index into ``result.field["frames"]``, an integer in [-n, n - 1] for n frames (negative: from
+        the end); default the most disturbed frame.
 
     Returns the matplotlib figure.
     """
@@ -215,10 +218,15 @@ def plot_water(result, stone, path=None, *, frame=None):
     from mpl_toolkits.mplot3d.art3d import Poly3DCollection
 
     field = _check_field(result)
+    _check_stone(stone)
     frames = field["frames"]
     depth = field["depth"]
     if frame is None:
         frame = int(np.argmax([np.abs(f[2] - depth).max() for f in frames]))
+    else:
+        from ._checks import check_int
+
+        frame = check_int("frame", frame, minimum=-len(frames), maximum=len(frames) - 1)
     t, origin, height, position, orientation = frames[frame]
     elev = (height - depth) * 1e3                      # [mm]
     extent = _frame_extent(field, origin)
@@ -273,9 +281,30 @@ def _elevation_limit(frames, depth) -> float:
     return max(float(np.percentile(np.abs(np.stack([f[2] for f in frames]) - depth), 99.5)) * 1e3, 1e-6)
 
 
+def _check_result(result):
+    """``result`` must be a :class:`jaxskip.api.ThrowResult` (a clear error, not an AttributeError inside)."""
+    from ._checks import ParameterError
+    from .api import ThrowResult
+
+    if not isinstance(result, ThrowResult):
+        raise ParameterError(f"result must be a jaxskip ThrowResult (from jaxskip.simulate), got {type(result).__name__}")
+    return result
+
+
+def _check_stone(stone):
+    from ._checks import ParameterError
+    from .body import RigidStone
+
+    if not isinstance(stone, RigidStone):
+        raise ParameterError(f"stone must be the jaxskip.RigidStone that was thrown (e.g. rigid_stone(paper_stone(), "
+                             f"density=2650.0)), got {type(stone).__name__}")
+    return stone
+
+
 def _check_field(result):
     from ._checks import ParameterError
 
+    _check_result(result)
     if not getattr(result, "field", None) or not result.field.get("frames"):
         raise ParameterError("this result has no water field: simulate it with water_field=WaterGrid(...)")
     return result.field
@@ -289,10 +318,10 @@ def animate_throw(result, stone, path, *, fps: int = 20):
     ``simulate(..., water_field=...)``. The snapshots are uneven in simulated time (a flight is
     crossed in a few long steps), so each frame is shown for a time proportional to the simulated
     time it covers: the animation is the throw in uniform slow motion, ``fps`` frames a second on
-    average (each frame shown 20 ms to 2 s).
+    average (each frame shown 20 ms to 2 s: GIF viewers show shorter frames slower, so 50 is the most).
 
     ``stone``: the :class:`jaxskip.RigidStone` that was thrown (its triangles draw the footprint).
-    ``fps``: frames per second of the animation on average, in (0, 100]. Returns ``path``.
+    ``fps``: frames per second of the animation on average, in (0, 50]. Returns ``path``.
     """
     import matplotlib
 
@@ -304,8 +333,9 @@ def animate_throw(result, stone, path, *, fps: int = 20):
 
     if not str(path).lower().endswith(".gif"):
         raise ParameterError(f"the animation path must end in .gif, got {path!r}")
-    fps = check_range("fps", fps, 0.0, 100.0, unit="frames/s", low_open=True)
+    fps = check_range("fps", fps, 0.0, 50.0, unit="frames/s", low_open=True)
     field = _check_field(result)
+    _check_stone(stone)
     frames = field["frames"]
     depth = field["depth"]
     lim = _elevation_limit(frames, depth)

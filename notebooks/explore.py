@@ -15,13 +15,11 @@
 # `python notebooks/explore.py` or `JAXSKIP_QUICK=1 python notebooks/explore.py`.
 
 # %%
-import os
-
 import matplotlib.pyplot as plt
 
 from jaxskip.notebook import notebook_mode
 
-RUN = notebook_mode("explore", default_out=os.path.join(os.path.dirname(os.path.abspath(__file__)), "figures"))
+RUN = notebook_mode("explore", here=globals().get("__file__"))  # no __file__ in a Jupyter kernel
 
 from jaxskip import Throw, simulate  # noqa: E402
 from jaxskip.plotting import plot_throw  # noqa: E402
@@ -48,7 +46,7 @@ def in_notebook() -> bool:
 # %%
 if in_notebook():
     try:
-        from ipywidgets import FloatSlider, interact
+        from ipywidgets import FloatSlider, fixed, interact
     except ImportError:
         print("pip install ipywidgets for sliders; drawing the default throw instead")
         show()
@@ -56,7 +54,8 @@ if in_notebook():
         interact(show, speed=FloatSlider(value=8.0, min=1.0, max=15.0, step=0.5, description="speed [m/s]"),
                  tilt=FloatSlider(value=20.0, min=0.0, max=60.0, step=1.0, description="tilt [deg]"),
                  attack=FloatSlider(value=5.0, min=0.0, max=40.0, step=1.0, description="attack [deg]"),
-                 spin=FloatSlider(value=20.0, min=0.0, max=40.0, step=1.0, description="spin [rev/s]"))
+                 spin=FloatSlider(value=20.0, min=0.0, max=40.0, step=1.0, description="spin [rev/s]"),
+                 ax=fixed(None))  # (interact makes a widget of every argument it is not told to hold)
 else:
     presets = [dict(speed=8.0, tilt=20.0, attack=5.0, spin=20.0), dict(speed=8.0, tilt=20.0, attack=5.0, spin=0.0),
                dict(speed=8.0, tilt=50.0, attack=5.0, spin=20.0), dict(speed=4.0, tilt=10.0, attack=15.0, spin=20.0)]

@@ -19,8 +19,6 @@
 # `python notebooks/magic_angle.py` (full) or `JAXSKIP_QUICK=1 python notebooks/magic_angle.py`.
 
 # %%
-import os
-
 import jax
 import jax.numpy as jnp
 import matplotlib.pyplot as plt
@@ -28,7 +26,7 @@ import numpy as np
 
 from jaxskip.notebook import notebook_mode
 
-RUN = notebook_mode("magic_angle", default_out=os.path.join(os.path.dirname(os.path.abspath(__file__)), "figures"))
+RUN = notebook_mode("magic_angle", here=globals().get("__file__"))  # no __file__ in a Jupyter kernel
 QUICK = RUN.quick
 
 from jaxskip import ForceModel, SimConfig, Throw, clanet_disk, rigid_stone, rollout, water_params  # noqa: E402
@@ -85,10 +83,11 @@ d_attacks = (5.0, 20.0, 35.0, 50.0) if QUICK else tuple(np.arange(0.0, 61.0, 5.0
 dom = run_sweep(make_spec("domain", tilts=d_tilts, attacks=d_attacks, speed=3.5))
 B = np.asarray(dom["bounces"])
 Tc = np.asarray([[np.nan if v is None else v for v in row] for row in dom["first_contact_time"]], float)
-widest = d_tilts[int(np.argmax((B > 0).sum(axis=1)))]
+span = (B > 0).sum(axis=1)                     # attack angles that bounce, per tilt
+widest = ", ".join(f"{t:g}" for t, n in zip(d_tilts, span) if n == span.max())   # every tilt that ties
 j20 = int(np.argmin(np.abs(np.asarray(d_attacks) - 20.0)))
 shortest = d_tilts[int(np.nanargmin(Tc[:, j20]))] if np.isfinite(Tc[:, j20]).any() else float("nan")
-print(f"domain at 3.5 m/s: widest range of attack angles at tilt {widest:g}°; "
+print(f"domain at 3.5 m/s: widest range of attack angles ({span.max()} of {len(d_attacks)}) at tilt {widest}°; "
       f"shortest first contact at attack {d_attacks[j20]:g}°: tilt {shortest:g}°")
 
 # %%

@@ -22,13 +22,11 @@
 # `python notebooks/optimize_throw.py` (full) or `JAXSKIP_QUICK=1 python notebooks/optimize_throw.py`.
 
 # %%
-import os
-
 import matplotlib.pyplot as plt
 
 from jaxskip.notebook import notebook_mode
 
-RUN = notebook_mode("optimize_throw", default_out=os.path.join(os.path.dirname(os.path.abspath(__file__)), "figures"))
+RUN = notebook_mode("optimize_throw", here=globals().get("__file__"))  # no __file__ in a Jupyter kernel
 QUICK = RUN.quick
 
 from jaxskip import Throw, simulate  # noqa: E402

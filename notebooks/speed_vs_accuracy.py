@@ -21,7 +21,6 @@
 
 # %%
 import dataclasses
-import os
 import time
 
 import jax
@@ -33,7 +32,7 @@ from matplotlib.transforms import Bbox
 
 from jaxskip.notebook import notebook_mode
 
-RUN = notebook_mode("speed_vs_accuracy", default_out=os.path.join(os.path.dirname(os.path.abspath(__file__)), "figures"))
+RUN = notebook_mode("speed_vs_accuracy", here=globals().get("__file__"))  # no __file__ in a Jupyter kernel
 QUICK = RUN.quick
 
 from jaxskip import ForceModel, SimConfig, Throw, disk, paper_stone, rigid_stone, rollout, simulate_batch, water_params  # noqa: E402 (after the float64 switch)
@@ -144,8 +143,8 @@ for n in segs:
 # a moving 64 cm window of O'Brien–Hodgins columns (1 cm, smooth clamp, a water step every 1 ms of
 # stone time). Reference: the same window at half the spacing (0.5 cm, 128² columns) with the
 # paper's clamp, stepped every 0.25 ms in full mode. Each throw runs on its own (compiled once per
-# configuration; compile excluded), on a subset of the batch: a coupled throw costs ~100× a flat
-# one. Full mode also varies the water's step (0.5 and 4 ms against the default 1 ms): the
+# configuration; compile excluded), on a subset of the batch: a coupled throw costs ~4–20× a flat
+# one (the chart's cost axis gives the figures). Full mode also varies the water's step (0.5 and 4 ms against the default 1 ms): the
 # multirate coupling's own knob.
 
 # %%

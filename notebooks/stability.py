@@ -21,8 +21,6 @@
 
 # %%
 import dataclasses
-import os
-
 import jax
 import jax.numpy as jnp
 import matplotlib.pyplot as plt
@@ -30,7 +28,7 @@ import numpy as np
 
 from jaxskip.notebook import notebook_mode
 
-RUN = notebook_mode("stability", default_out=os.path.join(os.path.dirname(os.path.abspath(__file__)), "figures"))
+RUN = notebook_mode("stability", here=globals().get("__file__"))  # no __file__ in a Jupyter kernel
 QUICK = RUN.quick
 
 from jaxskip import SimConfig, Throw, paper_stone, quaternion, rigid_stone, rollout, water_params  # noqa: E402

@@ -25,8 +25,12 @@ def run_notebook(name, out):
            "PYTHONPATH": ROOT + os.pathsep + os.environ.get("PYTHONPATH", "")}
     if name in RUN_BOUND:
         env["XLA_FLAGS"] = env.get("XLA_FLAGS", "").replace(TEST_OPT_FLAG, "").strip()
-    p = subprocess.run([sys.executable, os.path.join(ROOT, "notebooks", name)], capture_output=True, text=True,
-                       env=env, cwd=str(out), timeout=600)
+    # Run as a Jupyter kernel runs the cells: without ``__file__`` (every notebook once needed it and
+    # failed in its first cell there).
+    path = os.path.join(ROOT, "notebooks", name)
+    code = f"path = {path!r}; exec(compile(open(path).read(), path, 'exec'), {{'__name__': '__main__'}})"
+    p = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=env, cwd=str(out),
+                       timeout=600)
     assert p.returncode == 0, p.stderr[-3000:]
     return p.stdout
 

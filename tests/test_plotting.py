@@ -203,3 +203,25 @@ def test_the_contact_the_stone_ended_in_is_marked(held_disk):
     assert sum("(" in label for label in labels) == 1
     import matplotlib.pyplot as plt
     plt.close(fig)
+
+
+def test_pictures_refuse_bad_arguments_by_name(held_disk):
+    """A frame index out of range, a stone given by name, a batch result, a frame rate GIF viewers cannot
+    show: each named (they ended in an IndexError, AttributeError or a silently slower animation)."""
+    import dataclasses
+
+    from jaxskip import ParameterError, clanet_disk, rigid_stone
+    from jaxskip.plotting import animate_throw, plot_throw, plot_water
+
+    stone = rigid_stone(clanet_disk(), density=2700.0)
+    one = (0.0, np.zeros(2), np.full((8, 8), 0.02), np.array([0.0, 0.0, 0.01]), np.array([1.0, 0.0, 0.0, 0.0]))
+    wet = dataclasses.replace(held_disk, field={"depth": 0.02, "spacing": 0.01, "shape": [8, 8], "frames": [one]})
+    for frame, message in ((999, r"frame must be .*\[-1, 0\]"), (1.5, "frame must be an integer")):
+        with pytest.raises(ParameterError, match=message):
+            plot_water(wet, stone, frame=frame)
+    with pytest.raises(ParameterError, match="stone must be the jaxskip.RigidStone that was thrown"):
+        plot_water(wet, "clanet")
+    with pytest.raises(ParameterError, match="result must be a jaxskip ThrowResult .*got dict"):
+        plot_throw({"trajectory": None})
+    with pytest.raises(ParameterError, match=r"fps must be in \(0, 50\]"):
+        animate_throw(wet, stone, "x.gif", fps=60)

@@ -405,7 +405,7 @@ def _session_19_bad_inputs():
         (lambda: irregular_pebble(seed=1.5), r"seed must be an integer >= 0"),
         (lambda: SimConfig(force="bocquet"), "force must be a jaxskip.ForceModel"),
         (lambda: __import__("jaxskip").steps_for(1e300, 1e-300), "duration / dt must be a countable number"),
-        (lambda: animate_throw(None, stone, "throw.gif", fps=0), r"fps must be in \(0, 100\] frames/s"),
+        (lambda: animate_throw(None, stone, "throw.gif", fps=0), r"fps must be in \(0, 50\] frames/s"),
         (lambda: animate_throw(None, stone, "throw.gif", fps=math.nan), "fps must be finite"),
     ]
 
