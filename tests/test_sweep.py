@@ -254,8 +254,8 @@ def _sweep_in_subprocess(out, env_updates, devices):
         "import jax, sys; jax.config.update('jax_enable_x64', True)\n"
         "from optimize import make_spec, run_sweep\n"
         f"assert len(jax.local_devices()) == {devices}, jax.local_devices()\n"
-        "spec = make_spec('domain', tilts=[10.0, 20.0, 30.0], attacks=[5.0, 15.0], speed=6.0, attitude='free',\n"
-        "                 spin=30.0)\n"
+        "spec = make_spec('domain', tilts=[11.0, 13.0, 15.0], attacks=[0.5, 1.0], speed=12.0, attitude='free',\n"
+        "                 spin=20.0, stone='paper')\n"
         "run_sweep(spec, sys.argv[1])\n"
     )
     env = {k: v for k, v in os.environ.items() if k not in ("XLA_FLAGS", "JAXSKIP_CPU_DEVICES")}
@@ -266,7 +266,9 @@ def _sweep_in_subprocess(out, env_updates, devices):
 
 
 def test_four_host_devices_equal_one(tmp_path):
-    """The lanes sharded over 4 forced CPU devices give the same sweep file as 1 device.
+    """The lanes sharded over 4 forced CPU devices give the same sweep file as 1 device, to the bit, on
+    chaotic throws (the free paper stone near the box's best corner: 35-89 bounces; before session 22 the
+    counts moved with the device count, [[69, 69], [78, 7], ...] against [[89, 50], [59, 7], ...]).
 
     Both run in fresh interpreters: ``import jaxskip`` asks JAX for one CPU device per core, so
     the single-device run opts out (``JAXSKIP_CPU_DEVICES=1``).
@@ -275,8 +277,10 @@ def test_four_host_devices_equal_one(tmp_path):
     four = _sweep_in_subprocess(tmp_path / "four", {"XLA_FLAGS": "--xla_force_host_platform_device_count=4"}, 4)
     assert one["bounces"] == four["bounces"]
     assert sum(b > 1 for row in one["bounces"] for b in row) >= 4, one["bounces"]  # not a batch of non-events
-    np.testing.assert_allclose(np.array(four["first_contact_time"], dtype=float),
-                               np.array(one["first_contact_time"], dtype=float), rtol=0, atol=1e-12)
+    # to the bit: every device advances at least MIN_LANES_PER_DEVICE lanes, which XLA:CPU rounds alike
+    # (1-4 lanes a device rounded apart, and chaotic counts moved with the device count)
+    np.testing.assert_array_equal(np.array(four["first_contact_time"], dtype=float),
+                                  np.array(one["first_contact_time"], dtype=float))
 
 
 @pytest.mark.parametrize("kwargs, message", [
