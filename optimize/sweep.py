@@ -419,7 +419,10 @@ def _out_folder(out_dir) -> Path:
 
 
 def _read_json(path: Path, remedy: str):
-    """The JSON in ``path``; a file that is not valid JSON (truncated, overwritten) is refused naming it."""
+    """The JSON in ``path``; a file that is not valid JSON (truncated, overwritten), or a folder in its place,
+    is refused naming it."""
+    if path.is_dir():
+        raise ParameterError(f"{str(path)!r} is a folder, not a file; {remedy}")
     try:
         return json.loads(path.read_text())
     except ValueError as exc:  # json.JSONDecodeError, UnicodeDecodeError

@@ -181,6 +181,10 @@ def test_an_empty_out_dir_is_refused(tmp_path, monkeypatch):
         with pytest.raises(ParameterError, match="out_dir must be a folder path, got"):
             run_sweep(spec, empty)
     assert list(tmp_path.iterdir()) == []
+    # a folder where a chunk file belongs: named (was "[Errno 21] Is a directory")
+    (tmp_path / "s" / "chunk-00000.json").mkdir(parents=True)
+    with pytest.raises(ParameterError, match=r"chunk-00000.json' is a folder, not a file; "):
+        run_sweep(spec, tmp_path / "s")
     with pytest.raises(ParameterError, match="tilts must hold at most 100000 angles, got 100001"):
         make_spec("umin", tilts=np.linspace(5.0, 60.0, 100_001))
 
