@@ -8,9 +8,11 @@ above the water. The surrogate counts the same event smoothly. With the gap
 soft indicator :math:`s_i = \sigma((g_i - c)/w)` (:math:`\sigma` the logistic
 function),
 
-.. math:: \tilde N = \sum_i \max(0,\; s_{i+1} - s_i)
+.. math:: \tilde N = \sum_i h_i \max(0,\; s_{i+1} - s_i)
 
-sums the rises of :math:`s`: each flight after a contact that climbs well
+sums the rises of :math:`s` once the stone has touched the water (:math:`h_i` = 1 from the step
+after its first wet step, 0 before: a release that rises, or a spinning stone whose lowest vertex
+bobs before it lands, is no bounce): each flight after a contact that climbs well
 above :math:`c` adds about 1, a hop that barely reaches :math:`c` adds
 :math:`\sigma((g_{peak} - c)/w) < 1`, and the stone that sinks adds nothing,
 like the true count. :math:`\tilde N` is continuous in the throw (a new hop
@@ -68,7 +70,8 @@ def soft_bounce_count(records, clearance: float = CLEARANCE, width: float = WIDT
     t, gap = records.time, records.gap
     s = jax.nn.sigmoid((gap - clearance) / width)
     live_next = t[1:] > t[:-1]  # the next record is a real step, not a frozen repeat
-    return jnp.sum(jnp.where(live_next, jax.nn.relu(s[1:] - s[:-1]), 0.0))
+    touched = jnp.cumsum(records.wetted_area > 0.0)[:-1] > 0  # wet at or before the step a rise starts from
+    return jnp.sum(jnp.where(live_next & touched, jax.nn.relu(s[1:] - s[:-1]), 0.0))
 
 
 def soft_bounce_rollout(config: SimConfig, throw: Throw, stone: RigidStone, water: WaterParams,
@@ -76,8 +79,8 @@ def soft_bounce_rollout(config: SimConfig, throw: Throw, stone: RigidStone, wate
     r"""Roll a throw out; return ``(state, tracker, soft_count)``: :math:`\tilde N` summed in the carry.
 
     The same surrogate as :func:`soft_bounce_count` of the records, without the records: each
-    live step adds :math:`\max(0, s_k - s_{k-1})` of the gap at its start; steps out of play add
-    nothing. ``config.record`` is ignored (nothing is stacked). Pure, jit/vmap/grad-able.
+    live step after the first contact began adds :math:`\max(0, s_k - s_{k-1})` of the gap at its
+    start; steps before it and steps out of play add nothing. ``config.record`` is ignored (nothing is stacked). Pure, jit/vmap/grad-able.
     """
     _check_knobs(clearance, width)
     inner = make_step(dataclasses.replace(config, record=True))
@@ -87,7 +90,8 @@ def soft_bounce_rollout(config: SimConfig, throw: Throw, stone: RigidStone, wate
         (state1, tr1), rec = inner((state, tr), stone, water)
         s = jax.nn.sigmoid((rec.gap - clearance) / width)
         live = tr.alive
-        total = total + jnp.where(live, jax.nn.relu(s - s_prev), 0.0)
+        touched = tr.contacts > 0   # a contact began before this step: rises before the first are no bounce
+        total = total + jnp.where(live & touched, jax.nn.relu(s - s_prev), 0.0)
         return (state1, tr1, jnp.where(live, s, s_prev), total), None
 
     state = initial_state(throw, stone)
