@@ -156,22 +156,21 @@ def _values(text: str, name: str) -> list:
     from optimize.sweep import MAX_ANGLES
 
     try:
-        if ":" in text:
-            a, b, n = text.split(":")
-            n = int(n)
-            if n < 1:
-                raise ValueError
-            if n <= MAX_ANGLES:
-                return np.linspace(float(a), float(b), n).round(10).tolist()
-        else:
+        if ":" not in text:
             items = text.split(",")
             if any(not v.strip() for v in items):
                 raise ValueError
             return [float(v) for v in items]
+        a, b, n = text.split(":")
+        a, b, n = float(a), float(b), int(n)
+        if n < 1:
+            raise ValueError
     except ValueError:
         raise ParameterError(f"{name} must be A:B:N (N >= 1 values from A to B) or a comma list of numbers such as "
                              f"5,10,20 (no empty items), got {text!r}") from None
-    raise ParameterError(f"{name} A:B:N must have N <= {MAX_ANGLES}, got {text!r}")
+    if n > MAX_ANGLES:
+        raise ParameterError(f"{name} A:B:N must have N <= {MAX_ANGLES}, got {text!r}")
+    return np.linspace(a, b, n).round(10).tolist()
 
 
 def run_optimize(args) -> int:

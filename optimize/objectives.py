@@ -80,7 +80,8 @@ def soft_bounce_rollout(config: SimConfig, throw: Throw, stone: RigidStone, wate
 
     The same surrogate as :func:`soft_bounce_count` of the records, without the records: each
     live step after the first contact began adds :math:`\max(0, s_k - s_{k-1})` of the gap at its
-    start; steps before it and steps out of play add nothing. ``config.record`` is ignored (nothing is stacked). Pure, jit/vmap/grad-able.
+    start; steps before it and steps out of play add nothing. ``config.record`` is ignored (nothing is
+    stacked). Pure, jit/vmap/grad-able.
     """
     _check_knobs(clearance, width)
     inner = make_step(dataclasses.replace(config, record=True))

@@ -131,6 +131,8 @@ MAX_SAMPLES = 4096
 #: Most exact throws of :func:`random_search` and :func:`local_search`, and of a polish.
 MAX_THROWS = 100_000_000
 #: Most grid points per searched parameter of :func:`grid_search` (:func:`grid_points`).
+POLISH_CENTRES = 4
+"""Best distinct throws an ascent visited that its polish samples around (fewer if it visited fewer)."""
 MAX_PER_AXIS = 10_000
 #: Most grid points in all of :func:`grid_search` (:func:`grid_points`).
 MAX_GRID_POINTS = 100_000_000
@@ -392,7 +394,7 @@ def gradient_search(box: Box | None = None, *, objective: str = "bounces", stone
     if progress:
         print(file=sys.stderr)
     if polish:
-        forward += _polish(box, history, 4, polish, polish_scale, rigid, config, water, seed, progress,
+        forward += _polish(box, history, POLISH_CENTRES, polish, polish_scale, rigid, config, water, seed, progress,
                            best, iterations + 1)
     return SearchResult("gradient", best.throw, best.bounces, history, box, time.perf_counter() - t0, forward,
                         starts * iterations, t_grad, t_compile, best.distance, objective)
@@ -592,7 +594,7 @@ def perturbation_search(box: Box | None = None, *, stone="paper", config: SimCon
     if progress:
         print(file=sys.stderr)
     if polish:
-        forward += _polish(box, visited, 4, polish, polish_scale, rigid, config, water, seed, progress,
+        forward += _polish(box, visited, POLISH_CENTRES, polish, polish_scale, rigid, config, water, seed, progress,
                            best, iterations)
         history.append(visited[-1])
     return SearchResult("perturbation", best.throw, best.bounces, history, box, time.perf_counter() - t0, forward, 0,
