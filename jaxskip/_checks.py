@@ -34,13 +34,14 @@ def _as_float(name: str, value, valid: str = "") -> float:
 
     if isinstance(value, (str, bytes, bool, np.bool_)) or getattr(getattr(value, "dtype", None), "kind", "f") in NON_REAL_KINDS + "O":
         raise ParameterError(f"{name} must be a real number{(' ' + valid) if valid else ''}, got {value!r}")
-    if not isinstance(value, numbers.Real):
-        try:
-            value = float(value)  # numpy scalars, 0-d arrays
-        except (TypeError, ValueError):
-            raise ParameterError(f"{name} must be a real number{(' ' + valid) if valid else ''}, "
-                                 f"got {value!r}") from None
-    value = float(value)
+    try:
+        value = float(value)  # numpy scalars, 0-d arrays; an int beyond the float range overflows
+    except OverflowError:
+        raise ParameterError(f"{name} must be finite{(' and ' + valid) if valid else ''}, got a number beyond "
+                             "the floating-point range") from None
+    except (TypeError, ValueError):
+        raise ParameterError(f"{name} must be a real number{(' ' + valid) if valid else ''}, "
+                             f"got {value!r}") from None
     if not math.isfinite(value):
         raise ParameterError(f"{name} must be finite{(' and ' + valid) if valid else ''}, got {value!r}")
     return value
@@ -130,6 +131,10 @@ def check_array(name: str, value, low: float, high: float, *, unit: str = "", lo
                 isinstance(v, (numbers.Real, decimal.Decimal)) and not isinstance(v, bool) for v in raw.flat)):
             raise TypeError
         arr = np.asarray(raw, dtype=np.float64)
+    except OverflowError:
+        raise ParameterError(f"{name} must be finite and in {'(' if low_open else '['}{low:g}, {high:g}"
+                             f"{')' if high_open else ']'}{(' ' + unit) if unit else ''}, got a number beyond the "
+                             "floating-point range") from None
     except (TypeError, ValueError):
         raise ParameterError(f"{name} must be a real number or array of them, got {value!r}") from None
     bad = ~np.isfinite(arr)

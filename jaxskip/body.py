@@ -167,6 +167,9 @@ def rigid_stone(mesh: TriMesh, *, density: float | None = None, mass: float | No
     >>> round(float(s.mass) * 1e3, 1)  # grams
     14.5
     """
+    if not isinstance(mesh, TriMesh):
+        raise ParameterError(f"mesh must be a jaxskip.mesh.TriMesh (e.g. paper_stone(), or load_stone(name)[0] for a "
+                             f"built-in name or an .obj path), got {type(mesh).__name__}")
     if (density is None) == (mass is None):
         raise ParameterError("give exactly one of density [kg/m^3] or mass [kg]")
     lo, hi = DENSITY_RANGE

@@ -53,7 +53,7 @@ def add_parsers(sub, ranges: bool = True) -> None:
     if ranges:
         from optimize.bounds import LIMITS
         from optimize.search import (MAX_GRID_POINTS, MAX_ITERATIONS, MAX_PER_AXIS, MAX_SAMPLES, MAX_STARTS,
-                                     MAX_THROWS)
+                                     MAX_STEP, MAX_THROWS)
         from optimize.sweep import MAX_BISECTIONS, limit_text
 
         spans = {"starts": (1, MAX_STARTS), "iterations": (1, MAX_ITERATIONS), "polish": (0, MAX_THROWS),
@@ -64,7 +64,7 @@ def add_parsers(sub, ranges: bool = True) -> None:
     else:  # (help texts that are never shown)
         LIMITS = {name: (math.nan, math.nan, None) for name, *_ in RANGES}
         limit_text = span = lambda name: "range"  # noqa: E731
-        points = "N"
+        points, MAX_STEP = "N", math.nan
 
     o = sub.add_parser("optimize", help="search for the throw with the most bounces", description=(
         "Search the throw parameters within bounds for the most bounces (true counts from the exact "
@@ -87,7 +87,7 @@ def add_parsers(sub, ranges: bool = True) -> None:
     _only(o, METHOD_FLAGS, "--starts", f"random starts, in {span('starts')} (default 8)", type=int, metavar="N")
     _only(o, METHOD_FLAGS, "--iterations", f"optimiser steps, in {span('iterations')} (default 20)", type=int,
           metavar="N")
-    _only(o, METHOD_FLAGS, "--learning-rate", "Adam step in the unconstrained coordinates [-], > 0 (default 0.3)",
+    _only(o, METHOD_FLAGS, "--learning-rate", f"Adam step in the unconstrained coordinates [-], in (0, {MAX_STEP:g}] (default 0.3)",
           type=_float("--learning-rate"), metavar="LR")
     _only(o, METHOD_FLAGS, "--polish", f"exact throws sampled near the best throws found, after the ascent, in "
           f"{span('polish')} (default {METHOD_DEFAULTS['polish']}; 0: none). The free stone's count is chaotic: "
@@ -163,10 +163,10 @@ def _values(text: str, name: str) -> list:
             return [float(v) for v in items]
         a, b, n = text.split(":")
         a, b, n = float(a), float(b), int(n)
-        if n < 1:
+        if n < 1 or not (math.isfinite(a) and math.isfinite(b)):
             raise ValueError
     except ValueError:
-        raise ParameterError(f"{name} must be A:B:N (N >= 1 values from A to B) or a comma list of numbers such as "
+        raise ParameterError(f"{name} must be A:B:N (N >= 1 values from A to B, finite) or a comma list of numbers such as "
                              f"5,10,20 (no empty items), got {text!r}") from None
     if n > MAX_ANGLES:
         raise ParameterError(f"{name} A:B:N must have N <= {MAX_ANGLES}, got {text!r}")

@@ -18,12 +18,13 @@ from __future__ import annotations
 import dataclasses
 import math
 import os
+import stat
 from pathlib import Path
 
 import numpy as np
 
 from ._docs import document_fields
-from ._checks import ParameterError
+from ._checks import ParameterError, check_positive
 
 __all__ = [
     "MeshError",
@@ -37,6 +38,13 @@ __all__ = [
 
 #: Largest OBJ file :func:`read_obj` agrees to read [bytes].
 MAX_OBJ_BYTES = 50 * 1024 * 1024
+
+#: Most vertices and most triangles (after fan triangulation) :func:`read_obj` agrees to read, and the
+#: longest line [characters]: a stone of a million triangles would be far too slow to simulate, and the
+#: caps keep a hostile file's parse to a few hundred MB of memory.
+MAX_OBJ_VERTICES = 1_000_000
+MAX_OBJ_TRIANGLES = 2_000_000
+MAX_OBJ_LINE = 1 << 20
 
 #: A triangle counts as degenerate when its area is at most this fraction of
 #: the squared bounding-box diagonal of the mesh.
@@ -54,19 +62,31 @@ class MeshError(ParameterError):
 
 
 def _positive_scalar(value, name: str) -> float:
-    """Return ``value`` as a float, or raise MeshError unless it is finite and > 0."""
+    """Return ``value`` as a float, or raise MeshError unless it is a finite real number > 0 (strings and
+    bools refused, as by :func:`jaxskip._checks.check_positive`)."""
     try:
-        x = float(value)
-    except (TypeError, ValueError):
-        raise MeshError(f"{name} must be a positive finite number, got {value!r}") from None
-    if not (math.isfinite(x) and x > 0.0):
-        raise MeshError(f"{name} must be a positive finite number, got {value!r}")
-    return x
+        return check_positive(name, value)
+    except ParameterError as err:
+        raise MeshError(str(err)) from None
+
+
+def _float_array(value, name: str) -> np.ndarray:
+    """``value`` as a float64 array, or MeshError naming ``name`` (strings, ragged lists, ...)."""
+    try:
+        if isinstance(value, (str, bytes)):
+            raise TypeError
+        return np.asarray(value, dtype=np.float64)
+    except (TypeError, ValueError, OverflowError):
+        raise MeshError(f"{name} must be real numbers, got {value!r}") from None
 
 
 def _as_vertices(vertices, name: str) -> np.ndarray:
     """Convert to a float64 (V, 3) array, raising MeshError on wrong dtype/shape."""
-    arr = np.asarray(vertices)
+    try:
+        arr = np.asarray(vertices)
+    except ValueError:  # ragged nesting
+        raise MeshError(f"{name}: vertices must be an array of shape (V, 3), got a ragged "
+                        "sequence") from None
     if arr.dtype.kind not in "fiu":
         raise MeshError(f"{name}: vertices must be real numbers, got dtype {arr.dtype}")
     if arr.ndim != 2 or arr.shape[1] != 3:
@@ -76,7 +96,11 @@ def _as_vertices(vertices, name: str) -> np.ndarray:
 
 def _as_faces(faces, name: str) -> np.ndarray:
     """Convert to an int64 (F, 3) array, raising MeshError on wrong dtype/shape."""
-    arr = np.asarray(faces)
+    try:
+        arr = np.asarray(faces)
+    except ValueError:  # ragged nesting
+        raise MeshError(f"{name}: faces must be an array of shape (F, 3), got a ragged "
+                        "sequence") from None
     if arr.size and arr.dtype.kind not in "iu":
         raise MeshError(f"{name}: faces must be integer vertex indices, got dtype {arr.dtype}")
     if arr.ndim != 2 or arr.shape[1] != 3:
@@ -133,6 +157,8 @@ class TriMesh:
     """Human-readable name used in error messages."""
 
     def __post_init__(self) -> None:
+        if not isinstance(self.name, str):
+            raise MeshError(f"name must be a str, got {self.name!r}")
         object.__setattr__(self, "vertices", _readonly(_as_vertices(self.vertices, self.name)))
         object.__setattr__(self, "faces", _readonly(_as_faces(self.faces, self.name)))
 
@@ -159,7 +185,7 @@ class TriMesh:
 
     def translated(self, offset) -> "TriMesh":
         """Return the mesh moved by ``offset``, shape (3,) [m]."""
-        offset = np.asarray(offset, dtype=np.float64)
+        offset = _float_array(offset, 'offset')
         if offset.shape != (3,) or not np.all(np.isfinite(offset)):
             raise MeshError(f"offset must be 3 finite numbers [m], got {offset!r}")
         return TriMesh(self.vertices + offset, self.faces, self.name)
@@ -173,7 +199,7 @@ class TriMesh:
             Positive finite scale factor(s), dimensionless; a (3,) array scales
             x, y, z separately.  Positive factors keep the outward orientation.
         """
-        f = np.asarray(factor, dtype=np.float64)
+        f = _float_array(factor, 'factor')
         if f.shape not in ((), (3,)) or not np.all(np.isfinite(f)) or not np.all(f > 0):
             raise MeshError(f"factor must be a positive finite number or 3 of them, got {factor!r}")
         return TriMesh(self.vertices * f, self.faces, self.name)
@@ -187,7 +213,7 @@ class TriMesh:
             Proper rotation matrix R (``R R^T = 1``, ``det R = +1``, to 1e-9);
             reflections are refused since they would turn the mesh inside out.
         """
-        r = np.asarray(rotation, dtype=np.float64)
+        r = _float_array(rotation, 'rotation')
         if (
             r.shape != (3, 3)
             or not np.allclose(r @ r.T, np.eye(3), rtol=0.0, atol=1e-9)
@@ -223,7 +249,11 @@ def validate_mesh(vertices, faces, *, name: str = "mesh") -> None:
         degenerate triangles (area ``<= 1e-12 * d**2`` with ``d`` the
         bounding-box diagonal); edges not shared by exactly two triangles
         (holes or non-manifold edges); inconsistent orientation (a directed
-        edge used twice); non-positive signed volume (inside-out mesh).
+        edge used twice); vertices that no triangle uses (they would enter the
+        stone's size); more than one connected part (a stone is one closed
+        surface: a second part could be inside out, or nested inside the
+        first, and its volume would count wrongly); non-positive signed
+        volume (inside-out mesh).
 
     Notes
     -----
@@ -254,6 +284,11 @@ def validate_mesh(vertices, faces, *, name: str = "mesh") -> None:
         raise MeshError(f"{name}: triangle {bad[0]} repeats a vertex index {f[bad[0]].tolist()}; "
                         "remove this degenerate triangle")
 
+    unused = np.setdiff1d(np.arange(n_v), f)
+    if unused.size:
+        raise MeshError(f"{name}: {unused.size} of its {n_v} vertices (the first: vertex {unused[0]}) belong to "
+                        "no triangle; remove them (they would count towards the stone's size)")
+
     diag2 = float(np.sum(np.ptp(v, axis=0) ** 2))
     areas = 0.5 * np.linalg.norm(_triangle_cross(v, f), axis=1)
     bad = np.flatnonzero(areas <= DEGENERATE_AREA_FRACTION * diag2)
@@ -262,6 +297,15 @@ def validate_mesh(vertices, faces, *, name: str = "mesh") -> None:
                         f"(area {areas[bad[0]]:.3g} m^2); remove it or fix its vertices")
 
     _check_edges(f, n_v, name)
+
+    parts = _parts(f, n_v)
+    if parts.max() > 0:
+        n_parts = int(parts.max()) + 1
+        volumes = [_signed_volume(v, f[parts == k]) for k in range(n_parts)]
+        raise MeshError(f"{name}: the mesh has {n_parts} separate closed parts (signed volumes "
+                        f"{', '.join(f'{x:.3g}' for x in volumes[:5])}{', ...' if n_parts > 5 else ''} m^3; "
+                        f"triangles {np.flatnonzero(parts == 1)[:5].tolist()}... form the second); a stone "
+                        "must be one closed surface: remove the extra parts")
 
     volume = _signed_volume(v, f)
     if not volume > 0.0:
@@ -296,6 +340,30 @@ def _check_edges(faces: np.ndarray, n_vertices: int, name: str) -> None:
         raise MeshError(f"{name}: {describe(directed, keys[counts > 1][0])} runs in the same "
                         "direction in both: inconsistent orientation; flip one of them so all "
                         "triangles are counter-clockwise seen from outside")
+
+
+def _parts(faces: np.ndarray, n_vertices: int) -> np.ndarray:
+    """Connected part of every triangle, (F,) ints numbered 0, 1, ... in order of first
+    appearance; triangles sharing an edge are in the same part (label propagation with pointer
+    jumping over the edge-adjacency pairs; for a closed manifold mesh every edge has two)."""
+    heads = faces.reshape(-1)
+    tails = np.roll(faces, -1, axis=1).reshape(-1)
+    keys = np.minimum(heads, tails) * n_vertices + np.maximum(heads, tails)
+    order = np.argsort(keys, kind="stable")
+    tri = np.repeat(np.arange(len(faces)), 3)[order]
+    same = keys[order][1:] == keys[order][:-1]
+    a, b = tri[:-1][same], tri[1:][same]
+    label = np.arange(len(faces))
+    while True:
+        low = np.minimum(label[a], label[b])
+        new = label.copy()
+        np.minimum.at(new, a, low)
+        np.minimum.at(new, b, low)
+        new = new[new]
+        if np.array_equal(new, label):
+            break
+        label = new
+    return np.unique(label, return_inverse=True)[1].reshape(-1)
 
 
 # ---------------------------------------------------------------------------
@@ -388,8 +456,18 @@ def mass_properties(mesh: TriMesh, *, density: float | None = None,
     second_c = second - volume * np.outer(centroid, centroid)
 
     rho = density if density is not None else mass / volume
-    inertia = rho * (np.trace(second_c) * np.eye(3) - second_c)
+    with np.errstate(over="ignore", under="ignore"):  # refused below, with the figures
+        inertia = rho * (np.trace(second_c) * np.eye(3) - second_c)
     inertia = 0.5 * (inertia + inertia.T)
+    if not (math.isfinite(rho * volume) and rho * volume > 0.0 and np.all(np.isfinite(inertia))
+            and np.all(np.linalg.eigvalsh(inertia) > 0.0)):
+        given = f"density {density!r} kg/m^3" if density is not None else f"mass {mass!r} kg"
+        finite = math.isfinite(rho * volume) and rho * volume > 0.0 and np.all(np.isfinite(inertia))
+        raise MeshError(f"{mesh.name}: {given} gives mass {rho * volume!r} kg and principal moments "
+                        f"{np.linalg.eigvalsh(inertia).tolist() if np.all(np.isfinite(inertia)) else 'not finite'} "
+                        "kg m^2; they must be finite and > 0 ("
+                        + ("is the mesh one closed, outward surface? run validate_mesh)" if finite
+                           else "a density or mass beyond any physical range?)"))
     return MassProperties(mass=rho * volume, volume=volume,
                           center_of_mass=origin + centroid, inertia=inertia)
 
@@ -428,7 +506,7 @@ def _obj_face(fields: list[str], n_vertices: int) -> list[int]:
         try:
             i = int(field.split("/", 1)[0])
         except ValueError:
-            raise ValueError(f"bad face entry {field!r} (expected i, i/t, i/t/n or i//n)") from None
+            raise ValueError(f"bad face entry {field[:20]!r} (expected i, i/t, i/t/n or i//n)") from None
         k = i - 1 if i > 0 else n_vertices + i
         if i == 0 or not 0 <= k < n_vertices:
             raise ValueError(f"vertex index {i} does not refer to one of the {n_vertices} "
@@ -451,7 +529,9 @@ def read_obj(path: str | os.PathLike, *, name: str | None = None) -> TriMesh:
     Parameters
     ----------
     path : str or os.PathLike
-        File to read; at most 50 MiB (:data:`MAX_OBJ_BYTES`).  Coordinates are taken as metres.
+        A regular file; at most 50 MiB (:data:`MAX_OBJ_BYTES`), :data:`MAX_OBJ_VERTICES` vertices,
+        :data:`MAX_OBJ_TRIANGLES` triangles and :data:`MAX_OBJ_LINE` characters a line.  Coordinates
+        are taken as metres; vertices that no face uses are dropped (the faces renumbered).
     name : str, optional
         Mesh name; defaults to the file name without extension.
 
@@ -466,39 +546,62 @@ def read_obj(path: str | os.PathLike, *, name: str | None = None) -> TriMesh:
         If the file is missing, too large, not UTF-8 text, has a malformed
         line (the message gives file and line number) or is not a valid mesh.
     """
+    if not isinstance(path, (str, os.PathLike)):
+        raise MeshError(f"path must be a file name (str or os.PathLike), got {path!r}")
+    if name is not None and not isinstance(name, str):
+        raise MeshError(f"name must be a str, got {name!r}")
     path = Path(path)
     fname = path.name
     try:
-        size = path.stat().st_size
-    except OSError as err:
-        raise MeshError(f"cannot read OBJ file {str(path)!r}: {err.strerror}") from None
-    if size > MAX_OBJ_BYTES:
-        raise MeshError(f"OBJ file {str(path)!r} is {size} bytes; at most {MAX_OBJ_BYTES} "
-                        "(50 MiB) are accepted")
-    try:
-        text = path.read_text(encoding="utf-8-sig")
+        with open(path, "rb") as fh:
+            st = os.fstat(fh.fileno())
+            if not stat.S_ISREG(st.st_mode):  # a device or a pipe would be read without end
+                raise MeshError(f"cannot read OBJ file {str(path)!r}: not a regular file")
+            if st.st_size > MAX_OBJ_BYTES:
+                raise MeshError(f"OBJ file {str(path)!r} is {st.st_size} bytes; at most {MAX_OBJ_BYTES} "
+                                "(50 MiB) are accepted")
+            data = fh.read(MAX_OBJ_BYTES + 1)  # the file may have grown since fstat
+        if len(data) > MAX_OBJ_BYTES:
+            raise MeshError(f"OBJ file {str(path)!r} is over {MAX_OBJ_BYTES} bytes (50 MiB); no more are accepted")
+        text = data.decode("utf-8-sig")
     except (OSError, UnicodeDecodeError) as err:
         raise MeshError(f"cannot read OBJ file {str(path)!r}: {err}") from None
+    del data
+
+    def shown(line: str) -> str:
+        line = line.strip()
+        return repr(line if len(line) <= 80 else line[:77] + "...")
 
     vertices: list[list[float]] = []
     faces: list[tuple[int, int, int]] = []
-    for lineno, line in enumerate(text.splitlines(), start=1):
+    # Lines end at "\n" only (str.splitlines would also split at U+2028, form feeds, ... inside a comment).
+    for lineno, line in enumerate(text.replace("\r\n", "\n").replace("\r", "\n").split("\n"), start=1):
+        if len(line) > MAX_OBJ_LINE:
+            raise MeshError(f"{fname}, line {lineno}: {len(line)} characters; at most {MAX_OBJ_LINE} a line")
         tokens = line.split("#", 1)[0].split()
         try:
             if not tokens or tokens[0] in _IGNORED_OBJ_KEYWORDS:
                 continue
             if tokens[0] == "v":
                 vertices.append(_obj_vertex(tokens[1:]))
+                if len(vertices) > MAX_OBJ_VERTICES:
+                    raise ValueError(f"more than {MAX_OBJ_VERTICES} vertices")
             elif tokens[0] == "f":
                 idx = _obj_face(tokens[1:], len(vertices))
+                if len(faces) + len(idx) - 2 > MAX_OBJ_TRIANGLES:
+                    raise ValueError(f"more than {MAX_OBJ_TRIANGLES} triangles")
                 faces.extend((idx[0], idx[k], idx[k + 1]) for k in range(1, len(idx) - 1))
             else:
-                raise ValueError(f"unsupported statement {tokens[0]!r}")
+                raise ValueError(f"unsupported statement {tokens[0][:20]!r}")
         except ValueError as err:
-            raise MeshError(f"{fname}, line {lineno}: {err}: {line.strip()!r}") from None
+            raise MeshError(f"{fname}, line {lineno}: {err}: {shown(line)}") from None
 
     v = np.array(vertices, dtype=np.float64).reshape(-1, 3)
     f = np.array(faces, dtype=np.int64).reshape(-1, 3)
+    if f.size:  # vertices no face uses are not part of the surface: drop them
+        used = np.unique(f)
+        if used.size < len(v) and used.max() < len(v) and used.min() >= 0:
+            v, f = v[used], np.searchsorted(used, f)
     validate_mesh(v, f, name=fname)
     return TriMesh(v, f, name if name is not None else path.stem)
 

@@ -367,6 +367,9 @@ def load_stone(name_or_path: str | os.PathLike) -> tuple[TriMesh, float]:
     MeshError
         For an unknown name, a missing file or an invalid mesh file.
     """
+    if not isinstance(name_or_path, (str, os.PathLike)):
+        raise MeshError(f"stone must be a built-in name ({', '.join(sorted(BUILTIN_STONES))}) or the path of an "
+                        f".obj file, got {name_or_path!r}")
     if isinstance(name_or_path, str) and name_or_path in BUILTIN_STONES:
         factory, density = BUILTIN_STONES[name_or_path]
         return factory(), density
@@ -375,5 +378,5 @@ def load_stone(name_or_path: str | os.PathLike) -> tuple[TriMesh, float]:
         raise MeshError(f"unknown stone {str(name_or_path)!r}; valid names are "
                         f"{', '.join(sorted(BUILTIN_STONES))}, or give a path to an .obj file")
     if not path.is_file():
-        raise MeshError(f"stone file {str(path)!r} does not exist")
+        raise MeshError(f"stone file {str(path)!r} " + ("is not a regular file" if path.exists() else "does not exist"))
     return _centred(read_obj(path)), STONE_DENSITY

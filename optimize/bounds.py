@@ -34,10 +34,12 @@ PARAMETERS = tuple(LIMITS)
 HUMAN_BOX = {"speed": (3.0, 12.0), "tilt": (5.0, 45.0), "attack": (0.0, 30.0), "spin": (0.0, 20.0)}
 
 
-def check_interval(name: str, value, low: float, high: float, *, unit: str = "") -> tuple[float, float]:
-    """Validate ``value = (lo, hi)``: finite, ``lo < hi``, inside ``[low, high]``; returns floats."""
+def check_interval(name: str, value, low: float, high: float, *, unit: str = "",
+                   low_open: bool = False) -> tuple[float, float]:
+    """Validate ``value = (lo, hi)``: finite, ``lo < hi``, inside ``[low, high]`` (``(low, high]`` with
+    ``low_open``); returns floats."""
     u = f" {unit}" if unit else ""
-    valid = f"within [{low:g}, {high:g}]{u}"
+    valid = f"within {'(' if low_open else '['}{low:g}, {high:g}]{u}"
     pair = f"a pair (low, high) of numbers {valid}"
     if isinstance(value, (str, bytes)):   # "39" would unpack to (3, 9)
         raise ParameterError(f"{name} must be {pair}, got {value!r}")
@@ -58,7 +60,7 @@ def check_interval(name: str, value, low: float, high: float, *, unit: str = "")
     if lo == hi:
         raise ParameterError(f"{name} is empty: low = high = {lo}{u} (give low < high, {valid}, or a single value "
                              "to hold it instead)")
-    if lo < low or hi > high:
+    if lo < low or (low_open and lo == low) or hi > high:
         raise ParameterError(f"{name} must lie {valid}, got ({lo}, {hi})")
     return lo, hi
 

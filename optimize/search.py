@@ -130,6 +130,10 @@ MAX_ITERATIONS = 100_000
 MAX_SAMPLES = 4096
 #: Most exact throws of :func:`random_search` and :func:`local_search`, and of a polish.
 MAX_THROWS = 100_000_000
+#: Largest ``learning_rate`` (and ``sigma`` of :func:`perturbation_search`) in the unconstrained search
+#: coordinates u (a parameter is low + (high - low) sigmoid(u)): a step of 10 already crosses the whole box
+#: (sigmoid(-5) to sigmoid(5) is 0.7 % to 99.3 % of it); beyond, Adam's steps only pin the starts to its edges.
+MAX_STEP = 10.0
 #: Most grid points per searched parameter of :func:`grid_search` (:func:`grid_points`).
 POLISH_CENTRES = 4
 """Best distinct throws an ascent visited that its polish samples around (fewer if it visited fewer)."""
@@ -276,7 +280,7 @@ def gradient_search(box: Box | None = None, *, objective: str = "bounces", stone
     box, :data:`optimize.bounds.HUMAN_BOX`). ``objective``
     (``"bounces"``: the smooth count; ``"distance"`` [m]), ``starts`` random starting throws
     (seeded; an integer in [1, 4096], :data:`MAX_STARTS`), ``iterations`` Adam steps (an integer in
-    [1, 10^5], :data:`MAX_ITERATIONS`) of ``learning_rate`` (> 0, in the unconstrained, dimensionless
+    [1, 10^5], :data:`MAX_ITERATIONS`) of ``learning_rate`` (in (0, 10], :data:`MAX_STEP`; in the unconstrained, dimensionless
     coordinates of the box), gradients clipped to global norm ``clip`` (> 0, same coordinates) per
     start; a non-finite gradient is replaced by zero (and counted in the history). ``width`` [m], > 0:
     the surrogate's sharpness knob (:mod:`optimize.objectives`).
@@ -327,7 +331,7 @@ def gradient_search(box: Box | None = None, *, objective: str = "bounces", stone
     iterations = check_int("iterations", iterations, minimum=1, maximum=MAX_ITERATIONS)
     polish = check_int("polish", polish, minimum=0, maximum=MAX_THROWS)
     check_range("polish_scale", polish_scale, 0.0, 1.0, low_open=True)
-    check_positive("learning_rate", learning_rate)
+    check_range("learning_rate", learning_rate, 0.0, MAX_STEP, low_open=True)
     check_positive("clip", clip)
     check_positive("width", width, unit="m")
     rigid, _ = resolve_stone(stone)
@@ -533,13 +537,13 @@ def perturbation_search(box: Box | None = None, *, stone="paper", config: SimCon
     The gradient of the smoothed exact count at ``u`` (unconstrained coordinates) is
     :math:`\frac{1}{2\sigma m}\sum_k [N(u+\sigma\epsilon_k) - N(u-\sigma\epsilon_k)]\,\epsilon_k`
     over ``samples`` = m pairs (an integer in [1, 4096], :data:`MAX_SAMPLES`), :math:`\epsilon_k`
-    standard normal; ``sigma`` (> 0) is the smoothing scale in the unconstrained (logit) coordinates
+    standard normal; ``sigma`` (in (0, 10], :data:`MAX_STEP`) is the smoothing scale in the unconstrained (logit) coordinates
     of the box (dimensionless: 0.3 moves a parameter at the middle of its range by ~7 % of the range);
     every count is an exact simulation. Nothing is differentiated,
     so the rollout's chaos (its pathwise gradients grow e-fold every ~40-50 ms of contact,
     benchmarks/README.md) does not reach the estimate: it is the estimator a chaotic count calls
     for. ``starts`` random centres (an integer in [1, 4096]) each take ``iterations`` Adam steps (an
-    integer in [1, 10^5]) of ``learning_rate`` (> 0, unconstrained coordinates).
+    integer in [1, 10^5]) of ``learning_rate`` (in (0, 10], :data:`MAX_STEP`; unconstrained coordinates).
     ``polish`` (an integer in [0, 10^8]) / ``polish_scale`` (in (0, 1] [-]) as in
     :func:`gradient_search`: exact throws near the best (up to 4) distinct throws evaluated, centres
     and samples alike. Every history entry lists the centres it simulated under ``"points"`` (their
@@ -562,8 +566,8 @@ def perturbation_search(box: Box | None = None, *, stone="paper", config: SimCon
     samples = check_int("samples", samples, minimum=1, maximum=MAX_SAMPLES)
     polish = check_int("polish", polish, minimum=0, maximum=MAX_THROWS)
     check_range("polish_scale", polish_scale, 0.0, 1.0, low_open=True)
-    check_positive("sigma", sigma)
-    check_positive("learning_rate", learning_rate)
+    check_range("sigma", sigma, 0.0, MAX_STEP, low_open=True)
+    check_range("learning_rate", learning_rate, 0.0, MAX_STEP, low_open=True)
     rigid, _ = resolve_stone(stone)
     rng = np.random.default_rng(seed)
     u = box.from_user(_random_points(box, starts, rng))

@@ -223,9 +223,7 @@ def make_spec(kind: str, *, tilts, attacks=(REFERENCE["attack"],), speed: float 
     if len(tilts) * len(attacks) > MAX_GRID:
         raise ParameterError(f"tilts and attacks: their grid must have at most {MAX_GRID} points, got "
                              f"{len(tilts)} x {len(attacks)}")
-    lo, hi = check_interval("speed_range", speed_range, 0.0, MAX_SPEED, unit="m/s")
-    if lo <= 0.0:
-        raise ParameterError(f"speed_range must start above 0 m/s, got {lo}")
+    lo, hi = check_interval("speed_range", speed_range, 0.0, MAX_SPEED, unit="m/s", low_open=True)
     iterations = check_int("iterations", iterations, minimum=1, maximum=MAX_BISECTIONS)
     # every speed, tilt, attack and spin the sweep throws: checked against THROW_LIMITS (what --help shows),
     # then as the throw checks them

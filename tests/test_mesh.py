@@ -300,3 +300,88 @@ def test_load_stone_errors_and_obj(tmp_path):
     mesh, density = load_stone(str(path))
     assert density == STONE_DENSITY
     np.testing.assert_allclose(mass_properties(mesh, density=1.0).center_of_mass, 0, atol=1e-15)
+
+
+# ---------------------------------------------------------------------------
+# session 23: a review of meshes, OBJ files and bad input
+# ---------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("second", ["inside-out", "outward", "nested"])
+def test_a_mesh_of_several_parts_is_refused(second):
+    """A second closed part could face inwards (the total volume stayed positive, the inertia had
+    negative moments and the stone simulated), or sit nested inside the first (its volume counted
+    twice): a stone is one closed surface."""
+    stone = box(0.07, 0.05, 0.011)
+    extra = box(0.01, 0.01, 0.004)
+    if second == "nested":
+        pass  # inside the first box, outward: the volume would count twice
+    else:
+        extra = extra.translated([0.2, 0.0, 0.0])
+    faces = extra.faces[:, ::-1] if second == "inside-out" else extra.faces
+    v = np.vstack([stone.vertices, extra.vertices])
+    f = np.vstack([stone.faces, faces + len(stone.vertices)])
+    with pytest.raises(MeshError, match="2 separate closed parts.*one closed surface"):
+        validate_mesh(v, f, name="two")
+    if second == "inside-out":  # its total volume is positive, but an inertia moment is not
+        with pytest.raises(MeshError, match="principal moments .* run validate_mesh"):
+            mass_properties(TriMesh(v, f), density=1.0)
+
+
+def test_vertices_no_triangle_uses_are_refused_and_dropped_from_obj_files(tmp_path):
+    """A stray vertex entered the degenerate-triangle threshold and the stone's size (a 5 cm stone
+    with one at 0.5 m got a 0.48 m radius): ``validate_mesh`` refuses it, ``read_obj`` drops it."""
+    b = box(0.04, 0.03, 0.01)
+    with pytest.raises(MeshError, match="1 of its 9 vertices .* belong to no triangle"):
+        validate_mesh(np.vstack([b.vertices, [[0.5, 0.0, 0.0]]]), b.faces)
+    path = tmp_path / "stray.obj"
+    write_obj(path, TriMesh(np.vstack([[[0.5, 0.0, 0.0]], b.vertices]), b.faces + 1, "stray"))
+    read = read_obj(path)
+    np.testing.assert_array_equal(read.vertices, b.vertices)
+    np.testing.assert_array_equal(read.faces, b.faces)
+
+
+def test_obj_lines_end_at_newlines_only_and_messages_stay_short(tmp_path):
+    b = box(0.04, 0.03, 0.01)
+    path = tmp_path / "b.obj"
+    write_obj(path, b)
+    text = path.read_text()
+    path.write_text("# a comment\u2028f 1 2 3 with a line separator\n" + text)
+    assert read_obj(path).n_triangles == 12  # the separator does not start a statement
+    path.write_text(text + "v 0 0 " + "x" * 100000 + "\n")
+    with pytest.raises(MeshError) as err:
+        read_obj(path)
+    assert "line 22" in str(err.value) and len(str(err.value)) < 300
+
+
+def test_read_obj_refuses_what_is_not_a_regular_file_and_oversized_meshes(tmp_path, monkeypatch):
+    import jaxskip.mesh as mesh_module
+
+    with pytest.raises(MeshError, match="not a regular file"):
+        read_obj("/dev/zero")  # read without end before
+    with pytest.raises(MeshError, match="file name"):
+        read_obj(None)
+    path = tmp_path / "b.obj"
+    write_obj(path, box(0.04, 0.03, 0.01))
+    monkeypatch.setattr(mesh_module, "MAX_OBJ_TRIANGLES", 11)
+    with pytest.raises(MeshError, match="more than 11 triangles"):
+        read_obj(path)
+    monkeypatch.setattr(mesh_module, "MAX_OBJ_VERTICES", 7)
+    with pytest.raises(MeshError, match="line 9: more than 7 vertices"):
+        read_obj(path)
+
+
+@pytest.mark.parametrize("call, message", [
+    (lambda: paper_stone(radius="0.05"), "radius .* must be a real number > 0, got '0.05'"),
+    (lambda: disk(True, True), "radius .* must be a real number > 0, got True"),
+    (lambda: paper_stone(radius=10**400), "radius .* beyond the floating-point range"),
+    (lambda: mass_properties(box(0.04, 0.03, 0.01), mass=1e308), "must be finite and > 0"),
+    (lambda: mass_properties(box(0.04, 0.03, 0.01), density=1e-320), "must be finite and > 0"),
+    (lambda: box(0.04, 0.03, 0.01).translated("abc"), "offset must be real numbers"),
+    (lambda: TriMesh(np.zeros((4, 3)), [[0, 1, 2], [1, 2]]), "faces must be an array of shape"),
+    (lambda: TriMesh(np.zeros((4, 3)), [[0, 1, 2]], name=None), "name must be a str"),
+    (lambda: load_stone(None), "stone must be a built-in name"),
+])
+def test_mesh_inputs_are_refused_by_name(call, message):
+    with pytest.raises(MeshError, match=message):
+        call()

@@ -457,3 +457,28 @@ def test_cli_negative_numbers_in_e_notation_and_one_line_errors(capsys):
     assert e.value.code == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "argument --attitude: invalid choice: 'wobbly'" in err, err
+
+
+def _session_23_bad_inputs():
+    from jaxskip import rigid_stone, simulate, steps_for, water_params
+    from jaxskip.stones import paper_stone
+
+    huge = 10**400  # a Python int beyond the float range: float() raised a bare OverflowError
+    return [
+        (lambda: Throw.from_degrees(speed=huge), "speed must be finite and in .* beyond the floating-point range"),
+        (lambda: Throw.from_degrees(tilt=[huge, 1.0]), "tilt must be finite and in .* beyond the floating-point range"),
+        (lambda: simulate(mass=huge), "mass must be finite and > 0 kg, got a number beyond"),
+        (lambda: SimConfig(duration=huge), "duration must be finite and > 0 s, got a number beyond"),
+        (lambda: steps_for(huge, 1e-3), "duration must be finite"),
+        (lambda: water_params("bocquet", c_lift=huge), "c_lift must be finite and in"),
+        (lambda: rigid_stone(paper_stone(), mass=huge), "mass must be finite and > 0 kg"),
+        (lambda: rigid_stone("paper", density=2650.0), "mesh must be a jaxskip.mesh.TriMesh .* got str"),
+    ]
+
+
+@pytest.mark.parametrize("index", range(len(_session_23_bad_inputs())))
+def test_review_fixes_session_23(index):
+    """Found by a review in session 23: each raised a bare OverflowError or AttributeError."""
+    call, message = _session_23_bad_inputs()[index]
+    with pytest.raises(ParameterError, match=message):
+        call()
