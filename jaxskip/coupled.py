@@ -36,7 +36,8 @@ with the stone's pressure averaged over them — four stone steps per
 water step in contact. A water step never exceeds the grid's stable step (``grid.time_step``, a
 fraction of :func:`jaxskip.water.stable_dt`): a stone step longer than that (a coarse
 ``SimConfig.dt``) is covered by :math:`\lceil dt_s / \text{time\_step} \rceil` water
-substeps, so the water keeps the stone's time; only after a flight jump longer than
+substeps (as is the up to half a fine step by which a water step's due time overshoots
+``water_dt``), so the water keeps the stone's time; only after a flight jump longer than
 those substeps together does the water advance by less than the jump (the ripples
 left behind lag; they are out of the stone's way). The window is re-centred at each
 water step.
@@ -176,8 +177,10 @@ def make_coupled_step(config: SimConfig, grid: WaterGrid, water_dt: float | None
     steps once the stone steps since its last step add up to this, to within half a
     ``config.dt`` (or half of ``water_dt`` if less; default None:
     ``min(1 ms, grid.time_step)``); the stone's push is averaged over them.
-    A stone step ``config.dt`` longer than ``grid.time_step`` gets ``ceil(dt / time_step)`` water
-    substeps. ``two_way``: True (default) or False; False: the stone does not push the water (one-way: it
+    A water step covers the time pending, up to ``max(dt, water_dt + dt/2)`` in contact, in
+    ``ceil(that / time_step)`` equal substeps (one with the defaults), so the water keeps the stone's time
+    in contact; after a flight jump longer than those substeps together it falls behind (see the module's
+    docs). ``two_way``: True (default) or False; False: the stone does not push the water (one-way: it
     reads a field that stays as it started; from still water this is flat water).
     ``spread``: an integer in [0, 100], passes of a [1, 2, 1]/4 filter over the push before it reaches
     the water (each triangle's force lands on the columns of its centroid; the
@@ -190,8 +193,12 @@ def make_coupled_step(config: SimConfig, grid: WaterGrid, water_dt: float | None
         "water_dt", water_dt, 0.0, grid.time_step, unit="s", low_open=True)
     check_int("spread", spread, minimum=0, maximum=100)
     two_way = check_bool("two_way", two_way)
-    # A stone step longer than the water's stable step is covered by substeps (the water keeps time).
-    substeps = water_substeps(grid, config.dt)
+    # Water steps are due once the pending time reaches ``due_after`` (below); a contact's fine steps then
+    # leave up to water_dt + dt/2 pending (dt: config.dt, if not above water_dt), and a stone step longer
+    # than the water's stable step comes whole: substeps cover either, so the water keeps the stone's time
+    # in contact (with water_dt near grid.time_step a single step was cut to time_step: 0.9 of every 1 ms
+    # was stepped, and the push of the rest dropped).
+    substeps = water_substeps(grid, max(config.dt, water_dt + 0.5 * min(config.dt, water_dt)))
     water_step = make_water_step(grid, clamp_blocks=tuple(
         tuple(min(n, max(8, math.ceil(side / grid.spacing))) for n in grid.shape) for side in CLAMP_BLOCKS))
     dt_max = grid.time_step

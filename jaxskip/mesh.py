@@ -456,7 +456,7 @@ def mass_properties(mesh: TriMesh, *, density: float | None = None,
     second_c = second - volume * np.outer(centroid, centroid)
 
     rho = density if density is not None else mass / volume
-    with np.errstate(over="ignore", under="ignore"):  # refused below, with the figures
+    with np.errstate(over="ignore", under="ignore", invalid="ignore"):  # refused below, with the figures
         inertia = rho * (np.trace(second_c) * np.eye(3) - second_c)
     inertia = 0.5 * (inertia + inertia.T)
     if not (math.isfinite(rho * volume) and rho * volume > 0.0 and np.all(np.isfinite(inertia))

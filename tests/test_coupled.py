@@ -131,6 +131,21 @@ def test_a_stone_step_longer_than_the_water_step_gets_water_substeps(paper, wate
 
 
 
+@pytest.mark.parametrize("time_step", [0.88e-3, 0.9e-3])
+def test_the_water_keeps_the_stones_time_when_its_step_is_near_the_grids_bound(paper, water, time_step):
+    """With ``water_dt`` (here the grid's own step) just under 1 ms, four 0.25 ms stone steps are
+    pending when a water step falls due: more than one stable step. The water used to step only
+    ``grid.time_step`` of them (0.9 of every 1 ms, the push of the rest dropped: 9.8 % behind the stone
+    after 25 ms; found by a review, session 23); now substeps cover them."""
+    grid = WaterGrid(shape=(24, 24), spacing=0.01, depth=0.02, dt=time_step, boundary="closed", clamp="smooth")
+    config = SimConfig(record=False, max_steps=200, duration=10.0, flight="step")
+    throw = Throw.from_degrees(speed=0.5, tilt=0.0, attack=89.0, spin=0.0)
+    state, tr, _, f = jax.jit(lambda t: rollout_coupled(config, grid, t, paper, water))(throw)
+    assert int(tr.contacts) >= 1
+    np.testing.assert_allclose(float(f.water.time + f.pending), float(state.time), rtol=1e-12)
+    assert float(f.water.time) > 0.9 * float(state.time)
+
+
 _FOUR_STEPS = """
 import jax, jax.numpy as jnp, numpy as np
 from jaxskip import SimConfig, Throw, paper_stone, rigid_stone, water_params
