@@ -123,6 +123,7 @@ def check_array(name: str, value, low: float, high: float, *, unit: str = "", lo
     if isinstance(value, jax.core.Tracer):
         raise ParameterError(f"{name} is a traced value: Throw.create / Throw.from_degrees check concrete values "
                              "before tracing; inside jit, vmap or grad build the throw with Throw(...) directly")
+    valid = f"finite and in {'(' if low_open else '['}{low:g}, {high:g}{')' if high_open else ']'}{(' ' + unit) if unit else ''}"
     try:
         raw = np.asarray(value)
         # Real numbers of any type (ints, floats, bfloat16, Decimal, Fraction); not bools, complex numbers,
@@ -132,18 +133,12 @@ def check_array(name: str, value, low: float, high: float, *, unit: str = "", lo
             raise TypeError
         arr = np.asarray(raw, dtype=np.float64)
     except OverflowError:
-        raise ParameterError(f"{name} must be finite and in {'(' if low_open else '['}{low:g}, {high:g}"
-                             f"{')' if high_open else ']'}{(' ' + unit) if unit else ''}, got a number beyond the "
-                             "floating-point range") from None
+        raise ParameterError(f"{name} must be {valid}, got a number beyond the floating-point range") from None
     except (TypeError, ValueError):
         raise ParameterError(f"{name} must be a real number or array of them, got {value!r}") from None
     bad = ~np.isfinite(arr)
     if not bad.any():
         bad = (arr <= low if low_open else arr < low) | (arr >= high if high_open else arr > high)
     if bad.any():
-        first = float(arr[bad].flat[0])
-        lo = "(" if low_open else "["
-        hi = ")" if high_open else "]"
-        u = f" {unit}" if unit else ""
-        raise ParameterError(f"{name} must be finite and in {lo}{low:g}, {high:g}{hi}{u}, got {first!r}")
+        raise ParameterError(f"{name} must be {valid}, got {float(arr[bad].flat[0])!r}")
     return arr

@@ -301,7 +301,7 @@ def validate_mesh(vertices, faces, *, name: str = "mesh") -> None:
     parts = _parts(f, n_v)
     if parts.max() > 0:
         n_parts = int(parts.max()) + 1
-        volumes = [_signed_volume(v, f[parts == k]) for k in range(n_parts)]
+        volumes = [_signed_volume(v, f[parts == k]) for k in range(min(n_parts, 5))]  # the ones shown
         raise MeshError(f"{name}: the mesh has {n_parts} separate closed parts (signed volumes "
                         f"{', '.join(f'{x:.3g}' for x in volumes[:5])}{', ...' if n_parts > 5 else ''} m^3; "
                         f"triangles {np.flatnonzero(parts == 1)[:5].tolist()}... form the second); a stone "
@@ -313,17 +313,23 @@ def validate_mesh(vertices, faces, *, name: str = "mesh") -> None:
                         "inward; reverse the vertex order of every triangle")
 
 
+def _edges(faces: np.ndarray, n_vertices: int):
+    """The directed edges (f0, f1), (f1, f2), (f2, f0) of every triangle, (3F,) heads and tails in
+    triangle order, and each edge's direction-free key ``min * V + max``."""
+    heads = faces.reshape(-1)
+    tails = np.roll(faces, -1, axis=1).reshape(-1)
+    return heads, tails, np.minimum(heads, tails) * n_vertices + np.maximum(heads, tails)
+
+
 def _check_edges(faces: np.ndarray, n_vertices: int, name: str) -> None:
     """Raise MeshError unless every directed edge occurs once, together with its reverse."""
-    heads = faces.reshape(-1)
-    tails = np.roll(faces, -1, axis=1).reshape(-1)  # directed edges (f0,f1), (f1,f2), (f2,f0)
+    heads, tails, undirected = _edges(faces, n_vertices)
     edge_triangle = np.repeat(np.arange(len(faces)), 3)
 
     def describe(edge_keys: np.ndarray, key: int) -> str:
         a, b = divmod(int(key), n_vertices)
         return f"edge ({a}, {b}) of triangles {edge_triangle[edge_keys == key].tolist()}"
 
-    undirected = np.minimum(heads, tails) * n_vertices + np.maximum(heads, tails)
     keys, counts = np.unique(undirected, return_counts=True)
     if np.any(counts == 1):
         raise MeshError(f"{name}: {describe(undirected, keys[counts == 1][0])} belongs to only "
@@ -346,9 +352,7 @@ def _parts(faces: np.ndarray, n_vertices: int) -> np.ndarray:
     """Connected part of every triangle, (F,) ints numbered 0, 1, ... in order of first
     appearance; triangles sharing an edge are in the same part (label propagation with pointer
     jumping over the edge-adjacency pairs; for a closed manifold mesh every edge has two)."""
-    heads = faces.reshape(-1)
-    tails = np.roll(faces, -1, axis=1).reshape(-1)
-    keys = np.minimum(heads, tails) * n_vertices + np.maximum(heads, tails)
+    keys = _edges(faces, n_vertices)[2]
     order = np.argsort(keys, kind="stable")
     tri = np.repeat(np.arange(len(faces)), 3)[order]
     same = keys[order][1:] == keys[order][:-1]
@@ -459,14 +463,13 @@ def mass_properties(mesh: TriMesh, *, density: float | None = None,
     with np.errstate(over="ignore", under="ignore", invalid="ignore"):  # refused below, with the figures
         inertia = rho * (np.trace(second_c) * np.eye(3) - second_c)
     inertia = 0.5 * (inertia + inertia.T)
-    if not (math.isfinite(rho * volume) and rho * volume > 0.0 and np.all(np.isfinite(inertia))
-            and np.all(np.linalg.eigvalsh(inertia) > 0.0)):
+    moments = np.linalg.eigvalsh(inertia) if np.all(np.isfinite(inertia)) else None
+    mass_ok = math.isfinite(rho * volume) and rho * volume > 0.0
+    if not (mass_ok and moments is not None and np.all(moments > 0.0)):
         given = f"density {density!r} kg/m^3" if density is not None else f"mass {mass!r} kg"
-        finite = math.isfinite(rho * volume) and rho * volume > 0.0 and np.all(np.isfinite(inertia))
         raise MeshError(f"{mesh.name}: {given} gives mass {rho * volume!r} kg and principal moments "
-                        f"{np.linalg.eigvalsh(inertia).tolist() if np.all(np.isfinite(inertia)) else 'not finite'} "
-                        "kg m^2; they must be finite and > 0 ("
-                        + ("is the mesh one closed, outward surface? run validate_mesh)" if finite
+                        f"{'not finite' if moments is None else moments.tolist()} kg m^2; they must be finite and > 0 ("
+                        + ("is the mesh one closed, outward surface? run validate_mesh)" if mass_ok and moments is not None
                            else "a density or mass beyond any physical range?)"))
     return MassProperties(mass=rho * volume, volume=volume,
                           center_of_mass=origin + centroid, inertia=inertia)
