@@ -37,6 +37,7 @@ _NEGATIVE_NUMBER = re.compile(r"^-(\d|\.\d|inf|nan)", re.IGNORECASE)
 
 class _Parser(argparse.ArgumentParser):
     def __init__(self, *args, **kwargs):
+        kwargs.setdefault("allow_abbrev", False)  # `--spe 3` is a typo, not --speed (nor --spin)
         super().__init__(*args, **kwargs)
         self._negative_number_matcher = _NEGATIVE_NUMBER   # (argparse reads this attribute; no flag looks like one)
 
@@ -78,7 +79,9 @@ def add_common(p, *, stone="paper", attitude="free", plot="write a picture (PNG/
     """The simulation flags and ``--json``/``--plot``; every simulation flag defaults to None (not given),
     ``stone``/``attitude`` only name the default in the help."""
     p.add_argument("--stone", metavar="NAME|PATH.obj",
-                   help=f"paper, disk, clanet, ellipsoid, pebble, or an .obj file in metres (default {stone})")
+                   help="paper (the seed paper's 38-triangle flat stone), disk (8 cm stone disk), clanet (Clanet's "
+                        "5 cm aluminium disk), ellipsoid (flattened ellipsoid), pebble (seeded irregular pebble), or "
+                        f"an .obj file in metres (default {stone})")
     m = p.add_mutually_exclusive_group()
     density = f"[{DENSITY_RANGE[0]:g}, {DENSITY_RANGE[1]:g}]"
     m.add_argument("--mass", type=_float("--mass"), metavar="KG",
@@ -128,6 +131,27 @@ def check_output(flag: str, path, suffixes=None) -> None:
         raise ParameterError(f"{flag} {path!r} is {'a folder' if suffixes else 'a file, not a folder'}")
     if not os.access(path if os.path.isdir(path) else folder, os.W_OK):
         raise ParameterError(f"{flag} {path!r}: cannot write there (no permission)")
+    _probe(flag, path, folder, bool(suffixes))
+
+
+def _probe(flag: str, path, folder: str, is_file: bool) -> None:
+    """Write-test ``path`` (a file) or the folder that will hold it, leaving nothing behind: the permission
+    bits do not tell everything (``/proc``, a read-only mount, root), and a failure after the simulation
+    lost its results."""
+    import tempfile
+
+    try:
+        if is_file:
+            existed = os.path.exists(path)
+            open(path, "ab").close()        # appends nothing: an existing file is unchanged
+            if not existed:
+                os.unlink(path)
+        else:
+            fd, probe = tempfile.mkstemp(dir=path if os.path.isdir(path) else folder, prefix=".jaxskip-probe-")
+            os.close(fd)
+            os.unlink(probe)
+    except OSError as exc:
+        raise ParameterError(f"{flag} {str(path)!r}: cannot write there ({exc.strerror or exc})") from None
 
 
 def _finite(obj):
@@ -153,6 +177,7 @@ def build_parser(argv=None) -> argparse.ArgumentParser:
                 "(a default throw); `jaxskip COMMAND --help` lists a command's options.")
     p.add_argument("--version", action="version", version=_version())
     sub = p.add_subparsers(dest="command", required=True, parser_class=_Parser)
+    p.commands = sub.choices  # name -> the command's parser (its errors point to its own --help)
     t = sub.add_parser("throw", help="simulate one throw (flat water, or a coupled height field: --water field)",
                        description="Simulate one throw. With no options: a good default throw that skips many times.")
     t.add_argument("--speed", type=_float("--speed"), default=8.0, metavar="M/S",
@@ -335,14 +360,42 @@ def _warning_printer(args):
 
 def main(argv=None) -> int:
     """Entry point of the ``jaxskip`` command; returns the exit status."""
-    args = build_parser(argv).parse_args(argv)
+    parser = build_parser(argv)
+    args, extra = parser.parse_known_args(argv)
+    if extra:  # said by the command's parser, whose --help lists the flags it takes
+        parser.commands[args.command].error(f"unrecognized arguments: {' '.join(extra)}")
     from .mesh import MeshError
     from .simulate import AccuracyWarning
 
     with warnings.catch_warnings():
         warnings.simplefilter("once", AccuracyWarning)  # once per run, however many batches a search runs
         warnings.showwarning = _warning_printer(args)
-        return _run(args, MeshError)
+        try:
+            return _run(args, MeshError)
+        except KeyboardInterrupt:
+            _interrupted(args)
+
+
+EXIT_INTERRUPTED = 130
+"""Exit status after Ctrl-C (SIGINT): 128 + 2, as a shell reports a command it interrupted."""
+
+
+def _interrupted(args) -> None:
+    """Ctrl-C: one line on stderr (for a sweep, what is kept and how to resume), then exit 130 at once.
+
+    ``os._exit``, not a return: an interrupt that lands inside XLA's compiler leaves it mid-flight,
+    and the interpreter's normal shutdown then crashed (segmentation fault, exit 139). A sweep writes
+    each finished chunk atomically as it goes, so nothing finished is lost by leaving this way."""
+    message = "jaxskip: interrupted"
+    if args.command == "sweep" and getattr(args, "kind", None) in ("umin", "domain") and getattr(args, "out", None):
+        message += (f"; the finished chunks are kept in {args.out!r}: run the same command again to resume "
+                    f"(finished chunks are not recomputed)")
+    try:
+        sys.stdout.flush()
+    except Exception:  # noqa: BLE001 - a closed pipe: nothing more to say there
+        pass
+    print(message, file=sys.stderr, flush=True)
+    os._exit(EXIT_INTERRUPTED)
 
 
 EXIT_BROKEN_PIPE = 141

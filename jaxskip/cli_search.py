@@ -106,8 +106,8 @@ def add_parsers(sub, ranges: bool = True) -> None:
         "umin: the minimal speed for a bounce at each tilt (bisection, the tilts of a chunk batched); domain: bounce counts on a "
         "tilt x attack grid at one speed; merge FOLDER... --out DIR: join the folders of several shards (it "
         "takes no other flag but --json and --plot). Defaults: Clanet's aluminium disk, tilt held (high-spin "
-        "limit), 65 rev/s, attack 20 deg (docs/physics.md section 4). The work is cut into chunks (default: about 8; "
-        "a domain chunk holds at least 256 grid points), each written to --out as it finishes: re-running resumes "
+        "limit), 65 rev/s, attack 20 deg (docs/physics.md section 4). The work is cut into chunks (default: at most 8, of ceil(n/8) "
+        "tilts or grid points each, a domain chunk at least 256 points: a small domain sweep is one chunk), each written to --out as it finishes: re-running resumes "
         "there, and --shard-index/--num-shards split the chunks between machines."))
     s.add_argument("kind", choices=KINDS + ("merge",))
     s.add_argument("folders", nargs="*", default=[], metavar="FOLDER", help="(merge) the shards' --out folders")
@@ -216,8 +216,11 @@ def run_optimize(args) -> int:
     if args.plot:
         plot_search(r, args.plot)
     health = gradient_health(r)
+    command, single = _reproduction(r.best, args, rigid, water, config)
     if args.json:
         out = r.to_dict()
+        out["throw_command"] = command
+        out["throw_command_bounces"], out["throw_command_distance"] = single.bounces, single.distance
         if health is not None:
             out["gradient_norms"] = health
         out["config"] = describe(values["stone"], config, water, rigid)
@@ -233,6 +236,11 @@ def run_optimize(args) -> int:
               f"{b['tilt']:.1f} deg, attack {b['attack']:.1f} deg, spin {b['spin']:.1f} rev/s")
         print(f"cost: {r.forward_throws} exact throws, {r.gradient_evals} gradient evaluations, "
               f"{r.wall_time:.1f} s wall")
+        print(f"to throw it again: {command}")
+        if single.bounces != r.best_bounces:
+            print(f"  note: that command counts {single.bounces} bounces ({single.distance:.2f} m): the search "
+                  "counted its throws in batches, whose rounding differs from one throw's, and a long throw's "
+                  "count is chaotic down to the last bit")
         polish = [h for h in r.history if h.get("phase") == "polish"]
         if polish:
             ascent = max(h["best"] for h in r.history if h.get("phase") != "polish")
@@ -252,6 +260,23 @@ def run_optimize(args) -> int:
         if args.plot:
             print(f"picture: {args.plot}")
     return 0
+
+
+def _reproduction(best: dict, args, rigid, water, config):
+    """The ``jaxskip throw`` command line that throws ``best`` (user units, every digit) with this run's
+    simulation flags, and that command's result (:func:`jaxskip.simulate`, as ``jaxskip throw`` runs it)."""
+    import shlex
+
+    from . import Throw, simulate
+
+    values = {name: float(best[name]) for name, _, _, _ in RANGES}
+    words = ["jaxskip", "throw"] + [w for name, v in values.items() for w in (f"--{name}", repr(v))]
+    for name in SIM_DEFAULTS:
+        given = getattr(args, name, None)
+        if given is not None:
+            words += [f"--{name.replace('_', '-')}", str(given)]
+    single = simulate(Throw.from_degrees(**values), rigid, water=water, config=config)
+    return shlex.join(words), single
 
 
 def run_sweep_command(args) -> int:

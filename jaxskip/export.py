@@ -179,7 +179,7 @@ def write_trajectory(result, path, fps: float = 60.0) -> str:
              f"in its body frame (centre of mass, principal axes); speed {float(t.speed):g} m/s, tilt "
              f"{math.degrees(float(t.tilt)):g} deg, attack {math.degrees(float(t.attack)):g} deg, spin "
              f"{float(t.spin) / (2 * math.pi):g} rev/s; {result.bounces} bounces, {result.outcome}; "
-             f"{fps:g} frames/s; world frame z up, water at z = 0; metres")
+             f"{fps:g} frames/s; world frame z up, water at z = 0")
     write_obj(obj, dataclasses.replace(body_mesh(result.rigid), name=about))
     table = np.column_stack([f["time"], f["position"], f["orientation"], f["velocity"],
                              f["in_water"].astype(np.float64)])

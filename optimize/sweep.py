@@ -19,7 +19,8 @@ their reference spin, impact angle :math:`\beta = 20°` and speed 3.5 m/s.
   of the parabola through the lowest :math:`U_{min}` and its two neighbours
   (``best_tilt_fit``, ``best_umin_fit`` in a U_min sweep's result).
 
-Scale: the work is cut into chunks (by default about :data:`CHUNKS` of them,
+Scale: the work is cut into chunks (by default at most :data:`CHUNKS` of them, of
+``ceil(n / CHUNKS)`` items each, a domain chunk at least :data:`DOMAIN_CHUNK` grid points:
 :func:`default_chunk_size`; neither the chunk size nor the number of devices changes a number on a
 given machine: every device advances at least :data:`jaxskip.batch.MIN_LANES_PER_DEVICE` lanes, and XLA:CPU
 rounds alike for every batch that wide; another kind of machine may round differently, and a long,
@@ -472,9 +473,25 @@ def _read_spec(path: Path) -> dict:
     return data
 
 
-def _check_spec_file(out: Path, spec: SweepSpec) -> None:
-    """``out/spec.json`` pins the sweep a folder belongs to: resuming another sweep there is refused.
-    Writes it (creating ``out``, not its parents: :func:`_out_folder` checked them) if missing."""
+def _shown(value) -> str:
+    """``repr(value)`` for a message, a long list cut to its ends and its length (a 40-tilt grid is not
+    quoted whole)."""
+    text = repr(value)
+    if len(text) <= 60:
+        return text
+    if isinstance(value, list) and len(value) > 4:
+        return f"[{value[0]!r}, {value[1]!r}, ..., {value[-1]!r}] ({len(value)} values)"
+    return text[:57] + "..."
+
+
+RESUME_REMEDY = ("give those settings to resume it (a default that changed since the folder was made, such as "
+                 "max_steps, can be given explicitly: --max-steps N), or use a new folder")
+
+
+def _check_spec_file(out: Path, spec: SweepSpec, remedy: str = RESUME_REMEDY) -> None:
+    """``out/spec.json`` pins the sweep a folder belongs to: resuming another sweep there is refused
+    (``remedy``: what the message advises). Writes it (creating ``out``, not its parents:
+    :func:`_out_folder` checked them) if missing."""
     path = out / "spec.json"
     text = json.dumps(spec.to_dict(), sort_keys=True, indent=1)
     if path.exists():
@@ -489,12 +506,10 @@ def _check_spec_file(out: Path, spec: SweepSpec) -> None:
             keys = sorted(k for k in old.keys() | new.keys() if old.get(k) != new.get(k))
             # (what it holds: the resolved configuration's values, then the sweep's own that are not in it)
             config = {k: v for k, v in sorted(old.get("config", {}).items()) if new.get("config", {}).get(k) != v}
-            held = [f"{k}={v!r}" for k, v in config.items()]
-            held += [f"{k}={old.get(k)!r}" for k in keys if k != "config" and k not in config]
+            held = [f"{k}={_shown(v)}" for k, v in config.items()]
+            held += [f"{k}={_shown(old.get(k))}" for k in keys if k != "config" and k not in config]
             raise ParameterError(f"out_dir {str(out)!r} holds a different sweep (its spec.json differs in "
-                                 f"{', '.join(keys)}: it has {', '.join(held)}); give those settings to resume it "
-                                 "(a default that changed since the folder was made, such as max_steps, can be "
-                                 "given explicitly: --max-steps N), or use a new folder")
+                                 f"{', '.join(keys)}: it has {', '.join(held)}); {remedy}")
     else:
         _write_atomic(path, text)
 
@@ -702,7 +717,7 @@ def merge(folders, out_dir) -> dict:
     if missing:
         raise ParameterError(f"chunks missing from every folder: {missing[:10]}{' ...' if len(missing) > 10 else ''}"
                              " (run the shards that compute them)")
-    _check_spec_file(out, spec)
+    _check_spec_file(out, spec, "merge into a new folder (or into one of the shards' own)")
     for j, data in found.items():
         p = out / f"chunk-{j:05d}.json"
         if p.exists():

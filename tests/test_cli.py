@@ -139,6 +139,11 @@ def test_water_flags_bad_input(args, needle):
     (["--water", "field", "--water-plot", "/nonexistent/r.png"], "--water-plot"),
     (["--water", "field", "--animate", "/nonexistent/a.gif"], "--animate"),
     (["--plot", "{tmp}"], "is a folder"),
+    # the folder exists and the permission bits allow it, yet nothing can be created there: found by writing
+    pytest.param(["--plot", "/proc/x.png"], "--plot '/proc/x.png': cannot write there",
+                 marks=pytest.mark.skipif(not os.path.isdir("/proc/self"), reason="needs Linux's /proc")),
+    pytest.param(["--trajectory", "/proc/x.csv"], "--trajectory '/proc/x.csv': cannot write there",
+                 marks=pytest.mark.skipif(not os.path.isdir("/proc/self"), reason="needs Linux's /proc")),
 ])
 def test_unwritable_pictures_are_refused_before_simulating(args, needle, tmp_path, monkeypatch, capsys):
     """A picture that cannot be written is refused before the throw is simulated (not after)."""
@@ -150,6 +155,56 @@ def test_unwritable_pictures_are_refused_before_simulating(args, needle, tmp_pat
     assert main(["throw", *args]) == 2
     err = capsys.readouterr().err
     assert needle in err and err.count("\n") == 1
+
+
+def test_the_write_test_of_an_output_leaves_nothing_behind(tmp_path):
+    """check_output write-tests the path itself: a new file is not left behind, an existing one keeps its
+    bytes, and a folder to be created (a sweep's --out) is tested through its parent."""
+    from jaxskip.cli import PICTURES, check_output
+
+    check_output("--plot", str(tmp_path / "new.png"), PICTURES)
+    old = tmp_path / "old.png"
+    old.write_bytes(b"picture")
+    check_output("--plot", str(old), PICTURES)
+    check_output("--out", str(tmp_path / "sweep"))
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["old.png"] and old.read_bytes() == b"picture"
+
+
+@pytest.mark.parametrize("argv, said", [
+    (["throw", "--water", "field", "--duration", "5"], "jaxskip: interrupted"),
+    (["sweep", "umin", "--tilts", "5:60:12", "--out", "{tmp}"],
+     "jaxskip: interrupted; the finished chunks are kept in '{tmp}': run the same command again to resume"),
+])
+def test_ctrl_c_ends_with_one_line_and_status_130(argv, said, tmp_path):
+    """Ctrl-C (SIGINT) in the middle of a command: one line on stderr (for a sweep, how to resume), exit status
+    130, no traceback. It used to print KeyboardInterrupt's traceback, and an interrupt that landed in XLA's
+    compiler ended in a segmentation fault (exit 139) as the interpreter shut down."""
+    out = str(tmp_path / "sweep")
+    argv = [a.replace("{tmp}", out) for a in argv]
+    code = ("import os, signal, threading\nfrom jaxskip.cli import main\n"
+            "threading.Timer(2.0, lambda: os.kill(os.getpid(), signal.SIGINT)).start()\n"
+            f"main({argv!r})\nprint('not interrupted')\n")
+    p = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=300)
+    assert p.returncode == 130, (p.returncode, p.stderr[-2000:])
+    assert "Traceback" not in p.stderr and "not interrupted" not in p.stdout
+    assert p.stderr.strip().splitlines()[-1].startswith(said.replace("{tmp}", out)), p.stderr
+
+
+@pytest.mark.parametrize("argv, said", [
+    (["throw", "--spedd", "3"], "unrecognized arguments: --spedd 3 (see 'jaxskip throw --help')"),
+    (["throw", "extra"], "unrecognized arguments: extra (see 'jaxskip throw --help')"),
+    (["throw", "--spe", "3"], "unrecognized arguments: --spe 3 (see 'jaxskip throw --help')"),  # not --speed
+    (["sweep", "umin", "--tilt", "5"], "unrecognized arguments: --tilt 5 (see 'jaxskip sweep --help')"),  # --tilts
+])
+def test_unknown_and_shortened_flags_are_refused_by_their_command(argv, said, capsys):
+    """A misspelt flag is refused pointing to the command's own --help (it pointed to `jaxskip --help`, which
+    lists no flags), and a flag cut short is not taken for the one it begins (argparse's abbreviations: `--spe`
+    ran as --speed, `sweep --tilt` as --tilts)."""
+    with pytest.raises(SystemExit) as stop:
+        main(argv)
+    assert stop.value.code == 2
+    err = capsys.readouterr().err
+    assert err == f"jaxskip: error: {said}\n", err
 
 
 def test_stone_that_is_a_directory(tmp_path, capsys):

@@ -172,6 +172,21 @@ def test_folder_of_another_sweep_is_refused(tmp_path):
         run_sweep(spec, tmp_path)
 
 
+def test_a_folder_of_another_sweep_is_named_briefly(tmp_path):
+    """The refusal quotes a long grid by its ends and length (it quoted all 40 tilts: a 2 kB 'one line'), and
+    a merge is told to merge elsewhere (it was told to give settings that merge does not take)."""
+    tilts = [float(t) for t in np.linspace(5.0, 60.0, 40)]
+    run_sweep(make_spec("domain", tilts=tilts, attacks=[20.0], speed=3.5, max_steps=400), tmp_path / "big")
+    small = make_spec("domain", tilts=[20.0], attacks=[20.0], speed=3.5, max_steps=400)
+    with pytest.raises(ParameterError) as err:
+        run_sweep(small, tmp_path / "big")
+    message = str(err.value)
+    assert "tilts=[5.0, 6.41" in message and "60.0] (40 values)" in message and len(message) < 500, message
+    run_sweep(small, tmp_path / "small")
+    with pytest.raises(ParameterError, match=r"it has tilts=\[5.0, .*\(40 values\)\); merge into a new folder"):
+        merge([tmp_path / "small"], tmp_path / "big")
+
+
 def test_an_empty_out_dir_is_refused(tmp_path, monkeypatch):
     """run_sweep(spec, "") wrote chunk and result files into the current folder (Path("") is "."); the CLI
     refused an empty --out, the API did not. Big grids are refused before any work too."""
