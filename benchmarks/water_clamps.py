@@ -95,7 +95,9 @@ def main(argv=None):
         print(f"  {label:<22} volume error {verr.max():.1e}; max deviation from reference {dev.max():.1e} x depth; "
               f"lowest column {h.min() * 1e3:+.2e} mm")
     axes[0].set_title("relative volume error")
-    axes[1].set_title("max |h - h_reference| / depth")
+    axes[0].set_ylabel("|V - V0| / V0 [-]")
+    axes[1].set_title("deviation from the reference clamp")
+    axes[1].set_ylabel("max |h - h_reference| / depth [-]")
     for ax in axes[:2]:
         ax.set_xlabel("time [s]")
     axes[0].legend(fontsize=7)
@@ -113,7 +115,8 @@ def main(argv=None):
         axes[2].plot(amps * 1e3, ad, label=label, color=colour[label])
         print(f"  {label:<22} median |AD - FD| / |FD| = {np.median(err):.1e}; roughness (mean |2nd diff| / mean) "
               f"{rough:.2f}")
-    axes[2].set_title(f"d(probe)/d(mound height) after {args.grad_steps} steps")
+    axes[2].set_ylabel("d(h1 + h2) / d(mound height) [-]")
+    axes[2].set_title(f"gradient after {args.grad_steps} steps (h1, h2: two columns)")
     axes[2].set_xlabel("mound height [mm]")
     axes[2].legend(fontsize=7)
     fig.tight_layout()

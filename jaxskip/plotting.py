@@ -265,8 +265,9 @@ def plot_water(result, stone, path=None, *, frame=None):
     ax3.set_xlabel("x [m]", labelpad=6)
     ax3.set_ylabel("y [m]", labelpad=8)
     ax3.set_zlabel(f"z [mm] (vertical ×{exaggeration:.0f})", labelpad=6)
-    ax3.set_title(f"throw: {result.bounces} bounces in all; window {nx}×{ny}, "
-                  f"{field['spacing'] * 100:.0f} cm columns\n(surface clipped at ±{cap:.0f} mm)", fontsize=10)
+    ax3.set_title(f"the same moment in 3-D; throw: {result.bounces} bounces in all; window {nx}×{ny}, "
+                  f"{field['spacing'] * 100:.0f} cm columns\n(surface clipped at ±{cap:.0f} mm, twice the colour "
+                  "scale)", fontsize=10)
     fig.tight_layout()
     if path is not None:
         fig.savefig(path, dpi=120, bbox_inches="tight")

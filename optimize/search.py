@@ -739,7 +739,12 @@ def _histogram_figure(result: SearchResult, hist: np.ndarray):
     nonzero = hist[hist > 0]
     log = nonzero.size > 0 and nonzero.max() > 30 * nonzero.min()
     if log:
-        ax.set_yscale("log")
+        from matplotlib.ticker import FuncFormatter, LogLocator, NullFormatter
+
+        ax.set_yscale("log")  # ticks at 1, 2, 5, 10, 20, ... written as plain numbers (not 10^0, 10^1 alone)
+        ax.yaxis.set_major_locator(LogLocator(base=10.0, subs=(1.0, 2.0, 5.0)))
+        ax.yaxis.set_major_formatter(FuncFormatter(lambda v, _: f"{v:g}"))
+        ax.yaxis.set_minor_formatter(NullFormatter())
     else:
         ax.yaxis.set_major_locator(MaxNLocator(integer=True))
     ax.xaxis.set_major_locator(MaxNLocator(integer=True))
