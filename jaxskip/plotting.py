@@ -347,6 +347,9 @@ def animate_throw(result, stone, path, *, fps: int = 20):
     fig, (top, side) = plt.subplots(1, 2, figsize=(11, 4.2), width_ratios=[1, 1.3], layout="constrained")
     sm = plt.cm.ScalarMappable(cmap="RdBu_r", norm=plt.Normalize(-lim, lim))
     fig.colorbar(sm, ax=top, label="elevation [mm]", shrink=0.85, pad=0.02)
+    durations = _frame_durations([f[0] for f in frames], fps)
+    span = frames[-1][0] - frames[0][0]
+    slow = f"; slow motion ×{sum(durations) / 1000.0 / span:.1f}" if span > 0 else ""
 
     def draw(i):
         top.clear()
@@ -356,7 +359,7 @@ def animate_throw(result, stone, path, *, fps: int = 20):
                    cmap="RdBu_r", vmin=-lim, vmax=lim, interpolation="bilinear")
         for f in _stone_world(stone, position, orientation):
             top.fill(f[:, 0], f[:, 1], color="0.3", alpha=0.6, lw=0)
-        top.set_title(f"t = {t:.3f} s; colours clipped at ±{lim:.1f} mm", fontsize=9)
+        top.set_title(f"t = {t:.3f} s{slow}; colours clipped at ±{lim:.1f} mm", fontsize=9)
         top.set_xlabel("x [m]")
         top.set_ylabel("y [m]")
         seen = times <= t
@@ -368,8 +371,8 @@ def animate_throw(result, stone, path, *, fps: int = 20):
         side.set_xlim(*_downrange_limits(down))
         side.set_ylim(min(-2.0, pos[:, 2].min() * 100 - 0.5), max(pos[:, 2].max() * 115, 2.0))
         side.set_xlabel("downrange x [m]")
-        side.set_ylabel("height [cm]")
-        side.set_title(f"throw: {result.bounces} bounces, {result.outcome.replace('_', ' ')} "
+        side.set_ylabel("centre of mass height [cm]")
+        side.set_title(f"the whole throw: {result.bounces} bounces, {result.outcome.replace('_', ' ')} "
                        f"(red: in contact)", fontsize=9)
 
     images = []
@@ -378,8 +381,7 @@ def animate_throw(result, stone, path, *, fps: int = 20):
         fig.canvas.draw()
         images.append(Image.fromarray(np.asarray(fig.canvas.buffer_rgba())[..., :3].copy()))
     plt.close(fig)
-    images[0].save(path, save_all=True, append_images=images[1:], duration=_frame_durations(
-        [f[0] for f in frames], fps), loop=0)
+    images[0].save(path, save_all=True, append_images=images[1:], duration=durations, loop=0)
     return path
 
 
