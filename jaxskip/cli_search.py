@@ -106,9 +106,10 @@ def add_parsers(sub, ranges: bool = True) -> None:
         "umin: the minimal speed for a bounce at each tilt (bisection, the tilts of a chunk batched); domain: bounce counts on a "
         "tilt x attack grid at one speed; merge FOLDER... --out DIR: join the folders of several shards (it "
         "takes no other flag but --json and --plot). Defaults: Clanet's aluminium disk, tilt held (high-spin "
-        "limit), 65 rev/s, attack 20 deg (docs/physics.md section 4). The work is cut into chunks (default: at most 8, of ceil(n/8) "
-        "tilts or grid points each, a domain chunk at least 256 points: a small domain sweep is one chunk), each written to --out as it finishes: re-running resumes "
-        "there, and --shard-index/--num-shards split the chunks between machines."))
+        "limit), 65 rev/s, attack 20 deg (docs/physics.md section 4). The work is cut into chunks (default: at "
+        "most 8, of ceil(n/8) tilts or grid points each, a domain chunk at least 256 points: a small domain sweep "
+        "is one chunk), each written to --out as it finishes: re-running resumes there, and "
+        "--shard-index/--num-shards split the chunks between machines."))
     s.add_argument("kind", choices=KINDS + ("merge",))
     s.add_argument("folders", nargs="*", default=[], metavar="FOLDER", help="(merge) the shards' --out folders")
     _only(s, SWEEP_FLAGS, "--tilts", f"tilts, each in {limit_text('tilt')}: N values from A to B, or a "
