@@ -47,7 +47,7 @@ RUNNING, SANK, STOPPED, FLIPPED, TIME_LIMIT, STEP_LIMIT = 0, 1, 2, 3, 4, 5
 OUTCOMES = ("running", "sank", "stopped", "flipped", "time_limit", "step_limit")
 AIR, WET, LEAVING = 0, 1, 2
 # Free-rotation substeps and the axisymmetry tolerance of a jump's rotation cap: as jaxskip.simulate.
-FREE_ROTATION_SUBSTEPS, ASYMMETRY_TOLERANCE = 2, 1e-6
+FREE_ROTATION_SUBSTEPS, ASYMMETRY_TOLERANCE, LONGEST_CAP = 2, 1e-6, 1e3
 
 THROW_FIELDS = ("speed", "tilt", "attack", "spin", "height", "heading")
 
@@ -388,7 +388,7 @@ def step(state: dict, tr: dict, stone: NpStone, water: NpWater, config) -> tuple
     inv = np.diagonal(stone.inv_inertia)
     c2, c3 = inv[1] - inv[0], inv[2] - inv[0]
     rate = np.abs(_sum3(L * R[:, :, 2]) * c3)
-    capped = (abs(c2) > ASYMMETRY_TOLERANCE * abs(c3)) & (rate > 0.0)
+    capped = (abs(c2) > ASYMMETRY_TOLERANCE * abs(c3)) & (rate > FREE_ROTATION_SUBSTEPS * (0.5 * np.pi) / LONGEST_CAP)
     cap = np.where(capped, FREE_ROTATION_SUBSTEPS * (0.5 * np.pi) / np.where(capped, rate, 1.0), np.inf)
     dt = np.maximum(np.minimum(dt, cap), config.dt)
     dt = np.minimum(dt, np.maximum(config.duration - t, config.dt))  # a jump never passes the duration

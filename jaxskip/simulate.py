@@ -466,6 +466,13 @@ ASYMMETRY_TOLERANCE = 1e-6
 """A stone whose :math:`|1/I_2 - 1/I_1|` is at most this fraction of :math:`|1/I_3 - 1/I_1|` is
 axisymmetric for :func:`rotation_cap` (its free rotation is exact; a meshed disk's is ~1e-15)."""
 
+LONGEST_CAP = 1e3
+"""[s] :func:`rotation_cap` applies no cap longer than this: no jump is that long (the longest, a throw
+straight up at 100 m/s from 100 m, is ~21 s). Nor does it divide by the rates that would give one: a
+stone with next to no spin about its normal (1e-25 rad/s of rounding in a throw released flat without
+spin) gave a ~1e25 s cap whose reverse pass multiplied a zero cotangent by 1/rate², which overflows in
+float32: NaN gradients for the whole throw."""
+
 
 @functools.partial(jax.custom_jvp, nondiff_argnums=(4,))
 def free_rotation(q, L, stone: RigidStone, h, substeps: int = FREE_ROTATION_SUBSTEPS):
@@ -661,11 +668,13 @@ def rotation_cap(stone: RigidStone, R, L):
     by 140-165° in 0.6 s of flight that nothing touched (the irregular pebble by 21° at 50 and
     100 rev/s, 158° at 200), where the exact flow wobbles by 0.04°. Within the cap both follow the
     exact flow (0.01-0.04°). The default stone at its 20 rev/s is under the cap (~26 ms > 20 ms).
+    A cap beyond :data:`LONGEST_CAP` is not applied (``inf``).
     """
     inv = jnp.diagonal(stone.inv_inertia)
     c2, c3 = inv[1] - inv[0], inv[2] - inv[0]
     rate = jnp.abs(jnp.sum(L * R[:, 2]) * c3)
-    capped = (jnp.abs(c2) > ASYMMETRY_TOLERANCE * jnp.abs(c3)) & (rate > 0.0)
+    capped = (jnp.abs(c2) > ASYMMETRY_TOLERANCE * jnp.abs(c3)) & (rate > FREE_ROTATION_SUBSTEPS * (0.5 * jnp.pi)
+                                                                  / LONGEST_CAP)
     return jnp.where(capped, FREE_ROTATION_SUBSTEPS * (0.5 * jnp.pi) / jnp.where(capped, rate, 1.0), jnp.inf)
 
 

@@ -197,6 +197,28 @@ def test_long_jumps_keep_an_asymmetric_spinning_stone_on_course(water, spin):
     assert float(rotation_cap(disk, R, L)) == np.inf
 
 
+def test_rotation_cap_has_finite_gradients_at_next_to_no_spin():
+    """With next to no angular momentum about the normal (rounding noise: 1e-25 in a throw released flat
+    without spin) the cap was ~1e21 s, unused by any step, yet its reverse pass gave 0 x 1/rate^2 = NaN once
+    rate^2 underflowed (float32 at ~1e-19, float64 at ~1e-154): the whole throw's gradient was NaN. Caps
+    beyond LONGEST_CAP are not applied; just inside it, the cap and its gradient are as before."""
+    from jaxskip.simulate import FREE_ROTATION_SUBSTEPS, LONGEST_CAP, rotation_cap
+
+    stone = rigid_stone(ellipsoid_pebble(), density=2650.0)
+    R = jnp.eye(3)
+    inv = np.diag(np.asarray(stone.inv_inertia))
+    for tiny in (1e-160, 1e-25, 0.0):
+        L = jnp.array([0.0, 0.0, tiny])
+        assert float(rotation_cap(stone, R, L)) == np.inf
+        g = jax.grad(lambda L: jnp.minimum(rotation_cap(stone, R, L), 0.02))(L)
+        assert np.all(np.isfinite(g)) and np.all(np.asarray(g) == 0.0), (tiny, g)
+    L3 = 2.0 * FREE_ROTATION_SUBSTEPS * (0.5 * np.pi) / (LONGEST_CAP * abs(inv[2] - inv[0]))   # a 500 s cap
+    L = jnp.array([0.0, 0.0, L3])
+    assert float(rotation_cap(stone, R, L)) == pytest.approx(LONGEST_CAP / 2.0, rel=1e-12)
+    assert float(jax.grad(lambda L: rotation_cap(stone, R, L))(L)[2]) == pytest.approx(-LONGEST_CAP / 2.0 / L3,
+                                                                                      rel=1e-9)
+
+
 def test_surface_is_sampled_under_each_vertex(paper, water):
     """The water height is read under every vertex, not at the centre of mass: with water 1 m up
     only within 1 cm of the centre (x), the rim is dry, so the stone has not sunk."""
