@@ -385,9 +385,10 @@ def gradient_search(box: Box | None = None, *, objective: str = "bounces", stone
         t_grad += time.perf_counter() - t1
         g = np.asarray(g)  # (starts, P): checked on the host (eager jnp ops would compile each)
         finite = np.all(np.isfinite(g), axis=-1)
-        norms = [float(v) if ok else None for v, ok in zip(np.linalg.norm(np.where(finite[:, None], g, 0.0), axis=-1),
-                                                           finite)]
-        u, state = step_opt(float_array(np.where(finite[:, None], g, 0.0)), state, u)
+        g = np.where(finite[:, None], g, 0.0)
+        # the norms in float64: a float32 gradient's square overflows from ~1.8e19 (chaos reaches 1e20)
+        norms = [float(v) if ok else None for v, ok in zip(np.linalg.norm(g.astype(np.float64), axis=-1), finite)]
+        u, state = step_opt(float_array(_below_overflow(g)), state, u)
         history.append({"iteration": it, **exact, "objective": np.asarray(obj).tolist(),
                         "best": best.bounces, "nonfinite": int(np.sum(~np.asarray(finite))), "points": points,
                         "grad_norm": norms})
@@ -758,6 +759,20 @@ def _histogram_figure(result: SearchResult, hist: np.ndarray):
                  f"{_best_text(result)}\nat {_throw_text(result.best)}", fontsize=9)
     ax.legend(fontsize=8, loc="best")
     return fig
+
+
+#: Largest gradient component [-] handed to the clip as it is (2^50): the clip squares it, and a square
+#: beyond ~3.4e38 overflows float32 (the clip then divided by inf: a zero step, the start frozen).
+_CLIP_SAFE = 2.0 ** 50
+
+
+def _below_overflow(g: np.ndarray) -> np.ndarray:
+    """Each start's gradient (a row of ``g``) scaled by a power of two down to at most :data:`_CLIP_SAFE`
+    in its largest component, if beyond: exact in floating point, the same direction, and still far above
+    any clip, so the clipped step is the one the unscaled gradient would give without overflow."""
+    top = np.max(np.abs(g), axis=-1, initial=0.0)
+    shift = np.where(top > _CLIP_SAFE, np.ceil(np.log2(np.maximum(top, 1.0) / _CLIP_SAFE)), 0.0).astype(int)
+    return np.ldexp(g, -shift[:, None]).astype(g.dtype)
 
 
 def _start_colours(n: int) -> list:

@@ -373,3 +373,27 @@ def test_make_box_documents_the_limits_it_checks():
     doc = make_box.__doc__
     for name, (low, high, unit) in LIMITS.items():
         assert f"{name:<8}[{low:g}, {high:g}]" in doc and unit in doc, name
+
+
+def test_gradients_beyond_float32_squares_still_step():
+    """A chaotic throw's gradient reaches ~1e20 per unconstrained unit, finite in float32 but not its
+    square: optax's global-norm clip then divided by inf and the start took a zero step, frozen, while
+    the history recorded an infinite norm. The search scales such a gradient by a power of two first
+    (exact: the same direction, still far above the clip) and records its norm in float64."""
+    import optax
+
+    from optimize.search import _CLIP_SAFE, _below_overflow
+
+    g = np.array([[2e20, -1e19], [3.0, 4.0], [0.0, 0.0]], dtype=np.float32)
+    scaled = _below_overflow(g)
+    assert scaled.dtype == np.float32 and np.array_equal(scaled[1:], g[1:])        # ordinary rows untouched
+    ratio = g[0] / scaled[0]
+    assert ratio[0] == ratio[1] and np.log2(ratio[0]) == np.round(np.log2(ratio[0]))  # a power of two
+    assert np.max(np.abs(scaled[0])) <= _CLIP_SAFE
+    clip = optax.clip_by_global_norm(1.0)
+    raw, _ = clip.update(jnp.asarray(g[0]), clip.init(jnp.asarray(g[0])))
+    assert not np.any(np.asarray(raw))                          # the overflow this guards against: no step
+    step, _ = clip.update(jnp.asarray(scaled[0]), clip.init(jnp.asarray(scaled[0])))
+    step = np.asarray(step, dtype=np.float64)
+    assert np.linalg.norm(step) == pytest.approx(1.0, rel=1e-6)
+    assert step == pytest.approx(g[0] / np.linalg.norm(g[0].astype(np.float64)), rel=1e-6)
