@@ -17,6 +17,14 @@ def float_array(x) -> jax.Array:
     return jax.device_put(np.asarray(x, dtype=jax.dtypes.canonicalize_dtype(np.float64)))
 
 
+def float_leaves(tree):
+    """Every leaf of ``tree`` (a :class:`jaxskip.Throw`, :class:`jaxskip.WaterParams`, ...) as
+    :func:`float_array`: a Python float or ``jnp.asarray(9.0)`` is *weakly* typed, which jit keys apart
+    from the strong arrays :meth:`jaxskip.Throw.from_degrees` and :func:`jaxskip.water_params` make, so
+    the same computation would compile again."""
+    return jax.tree_util.tree_map(float_array, tree)
+
+
 # XLA:CPU rewrites a reduction over more than 32 elements into a padded ``reduce-window`` and a
 # second reduce (its tree-reduction pass, kept for float accuracy). Over a stone's faces (F = 38)
 # under ``vmap`` those windows cost more than the force arithmetic itself. Folding the axis in

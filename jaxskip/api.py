@@ -20,7 +20,7 @@ import jax.numpy as jnp
 import numpy as np
 
 from ._docs import document_fields
-from ._arrays import float_array
+from ._arrays import float_array, float_leaves
 from ._checks import ParameterError, check_bool, check_int, check_positive, check_range
 from .body import DENSITY_RANGE, RigidStone, rigid_stone
 from .forces import WaterParams, water_params
@@ -371,7 +371,8 @@ def simulate(
     config = checked_config(config)
     chunk = check_int("chunk", chunk, minimum=1)
     progress = check_bool("progress", progress)
-    water = _default_water(config.force.law, x64) if water is None else checked_water(water)
+    water = _default_water(config.force.law, x64) if water is None else float_leaves(checked_water(water))
+    throw = float_leaves(throw)  # (Python floats, jnp.asarray(9.0): weak types would compile the chunk again)
     rigid, name = resolve_stone(stone, mass=mass, density=density)
 
     if water_field is not None:

@@ -105,7 +105,9 @@ class ForceModel:
 @jax.tree_util.register_dataclass
 @dataclasses.dataclass(frozen=True)
 class WaterParams:
-    """Traced physical constants of the water (pytree leaves: a new value does not recompile)."""
+    """Traced physical constants of the water (pytree leaves: a new value does not recompile; build them
+    with :func:`water_params`, whose leaves are strongly typed: Python floats would compile apart under
+    ``jax.jit``)."""
 
     c_lift: jax.Array
     """() lift coefficient :math:`C_l` [-], in [0, 10]."""

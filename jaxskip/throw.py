@@ -44,6 +44,9 @@ class Throw:
     """Initial conditions of a throw (pytree: every field is traced, so new values never recompile).
 
     Every field has the same shape: ``()`` for one throw, ``(N,)`` (or more axes) for a batch.
+    Build throws with :meth:`create` or :meth:`from_degrees` (arrays of JAX's float type): under your own
+    ``jax.jit``, fields given as Python floats or ``jnp.asarray(9.0)`` are weakly typed, and jit compiles
+    those apart (:func:`jaxskip.simulate` converts them itself).
 
     Examples
     --------

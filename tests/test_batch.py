@@ -1,5 +1,6 @@
 """vmap over throws equals one at a time; new throw values never recompile."""
 
+import dataclasses
 import math
 
 import jax
@@ -7,7 +8,7 @@ import jax.numpy as jnp
 import numpy as np
 import pytest
 
-from jaxskip import OUTCOMES, SimConfig, Throw, rollout, simulate
+from jaxskip import OUTCOMES, SimConfig, Throw, WaterParams, rollout, simulate
 from jaxskip.api import _chunk_runner
 
 
@@ -59,6 +60,11 @@ def test_simulate_reuses_its_compiled_chunk():
     before = runner._cache_size()
     simulate(Throw.from_degrees(speed=7.5, tilt=25.0, spin=12.0), config=config, chunk=500)
     simulate(Throw.from_degrees(speed=4.0), stone="paper", mass=0.1, config=config, chunk=500)
+    # throws and water of Python floats or weakly typed scalars (as a finite-difference check builds them):
+    # the same program (they compiled it again)
+    simulate(Throw(speed=8.0, tilt=0.3, attack=0.1, spin=100.0, height=0.001, heading=0.0), config=config, chunk=500)
+    simulate(dataclasses.replace(Throw.from_degrees(), speed=jnp.asarray(9.0)), config=config, chunk=500)
+    simulate(Throw.from_degrees(), water=WaterParams(1.0, 0.3, 1000.0, 9.81), config=config, chunk=500)
     assert runner._cache_size() == before == 1
 
 
