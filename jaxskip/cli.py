@@ -370,10 +370,20 @@ def main(argv=None) -> int:
     with warnings.catch_warnings():
         warnings.simplefilter("once", AccuracyWarning)  # once per run, however many batches a search runs
         warnings.showwarning = _warning_printer(args)
+        # Ctrl-C handled at the signal itself: a KeyboardInterrupt raised where Python ignores exceptions (a
+        # garbage-collection callback of XLA's) was swallowed, and the command ran on to the end.
+        import signal
+        import threading
+
+        handled = threading.current_thread() is threading.main_thread()
+        previous = signal.signal(signal.SIGINT, lambda signum, frame: _interrupted(args)) if handled else None
         try:
             return _run(args, MeshError)
         except KeyboardInterrupt:
             _interrupted(args)
+        finally:
+            if handled:
+                signal.signal(signal.SIGINT, previous)
 
 
 EXIT_INTERRUPTED = 130
