@@ -33,18 +33,18 @@ with a grid measured in the same run.
 from __future__ import annotations
 
 import dataclasses
+import functools
 import numbers
 import sys
 import time
 from collections.abc import Mapping
 
 import jax
-import jax.numpy as jnp
 import numpy as np
 import optax
 
 from jaxskip import SimConfig, WaterParams, simulate_batch, water_params
-from jaxskip._arrays import float_array
+from jaxskip._arrays import float_array, float_leaves
 from jaxskip._docs import document_fields
 from jaxskip._checks import ParameterError, check_bool, check_int, check_positive, check_range
 from jaxskip.api import checked_config, checked_water, resolve_stone
@@ -92,7 +92,9 @@ class SearchResult:
     """Run time of all gradient evaluations, compile excluded [s] (their measured cost: a gradient
     costs more on the long throws a search climbs to than on a typical throw)."""
     compile_time: float = 0.0
-    """Time spent compiling the gradient function [s] (in ``wall_time``, not in ``gradient_time``)."""
+    """Time spent compiling the gradient function [s] (in ``wall_time``, not in ``gradient_time``; 0 when an
+    earlier search in the same process compiled it: the program is kept for the same configuration,
+    box, number of starts, stone and water shapes and precision)."""
     best_distance: float | None = None
     """The best throw's true distance [m] (exact simulation, as ``best_bounces``)."""
     objective: str = "bounces"
@@ -338,23 +340,8 @@ def gradient_search(box: Box | None = None, *, objective: str = "bounces", stone
     water = water_params(config.force.law) if water is None else checked_water(water)
     if horizon is not None:
         horizon = check_int("horizon", horizon, minimum=1, maximum=config.max_steps)
-    f = make_objective(objective, config if horizon is None else dataclasses.replace(config, max_steps=horizon),
-                       rigid, water, width)
-
-    def value_and_grad(u):
-        return jax.lax.map(jax.value_and_grad(lambda ui: f(box.to_throw(ui))), u)
-
-    # The starts are split over the local devices (``import jaxskip`` makes one CPU device per
-    # core): each device runs ``lax.map`` over its share (shard_map; a map, not a vmap, so every
-    # rollout keeps its skip of finished segments).
-    sharding = _starts_sharding(starts)
-    if sharding is not None:
-        spec = sharding.spec
-        value_and_grad = jax.shard_map(value_and_grad, mesh=sharding.mesh, in_specs=spec, out_specs=(spec, spec),
-                                       check_vma=False)  # per-shard work, no collectives
-
-    opt = optax.chain(optax.clip_by_global_norm(clip), optax.adam(learning_rate))
-    step_opt = jax.jit(jax.vmap(lambda g, s, u: _ascend(opt, g, s, u)))
+    program_config = config if horizon is None else dataclasses.replace(config, max_steps=horizon)
+    make_objective(objective, program_config, rigid, water, width)  # checks the arguments before any tracing
 
     rng = np.random.default_rng(seed)
     points = _random_points(box, starts, rng)
@@ -362,12 +349,15 @@ def gradient_search(box: Box | None = None, *, objective: str = "bounces", stone
         for name, value in initial.items():
             points[name][0] = value
     u = float_array(box.from_user(points))
+    args = (u, float_leaves(rigid), float_leaves(water), float_array(width))
+    t_compile, misses = time.perf_counter(), _surrogate_program.cache_info().misses
+    value_and_grad, sharding = _surrogate_program(objective, program_config, box, _signature(args))
+    # 0 when an earlier search compiled the same program
+    t_compile = time.perf_counter() - t_compile if _surrogate_program.cache_info().misses > misses else 0.0
     place = (lambda a: a) if sharding is None else (lambda a: jax.device_put(a, sharding))  # noqa: E731
-    t_compile = time.perf_counter()
-    value_and_grad = jax.jit(value_and_grad).lower(place(u)).compile()
-    t_compile = time.perf_counter() - t_compile
+    hyper = (float_array(learning_rate), float_array(clip))
     t_grad = 0.0
-    state = jax.jit(jax.vmap(opt.init))(u)
+    state = _init_optimizer(u)
     history, best, forward = [], _Best(box, objective), 0
     for it in range(iterations + 1):
         values = box.to_user(np.asarray(u))
@@ -381,14 +371,14 @@ def gradient_search(box: Box | None = None, *, objective: str = "bounces", stone
                             "nonfinite": 0, "points": points})
             break
         t1 = time.perf_counter()
-        obj, g = jax.block_until_ready(value_and_grad(place(u)))
+        obj, g = jax.block_until_ready(value_and_grad(place(u), *args[1:]))
         t_grad += time.perf_counter() - t1
         g = np.asarray(g)  # (starts, P): checked on the host (eager jnp ops would compile each)
         finite = np.all(np.isfinite(g), axis=-1)
         g = np.where(finite[:, None], g, 0.0)
         # the norms in float64: a float32 gradient's square overflows from ~1.8e19 (chaos reaches 1e20)
         norms = [float(v) if ok else None for v, ok in zip(np.linalg.norm(g.astype(np.float64), axis=-1), finite)]
-        u, state = step_opt(float_array(_below_overflow(g)), state, u)
+        u, state = _ascend_all(float_array(_below_overflow(g)), state, u, *hyper)
         history.append({"iteration": it, **exact, "objective": np.asarray(obj).tolist(),
                         "best": best.bounces, "nonfinite": int(np.sum(~np.asarray(finite))), "points": points,
                         "grad_norm": norms})
@@ -523,10 +513,66 @@ def _starts_sharding(starts: int):
     return jax.sharding.NamedSharding(mesh, jax.sharding.PartitionSpec("starts"))
 
 
-def _ascend(opt, g, state, u):
-    """One optax step that *increases* the objective (optax minimises: feed it -g)."""
-    updates, state = opt.update(-g, state, u)
-    return optax.apply_updates(u, updates), state
+def _optimizer(learning_rate, clip) -> optax.GradientTransformation:
+    """Adam after a clip to global norm ``clip`` (per start). The hyperparameters may be traced: the
+    compiled step below serves every value, and the optimizer's state does not depend on them."""
+    return optax.chain(optax.clip_by_global_norm(clip), optax.adam(learning_rate))
+
+
+@jax.jit
+def _init_optimizer(u):
+    """The optimizer's state for each start: ``u`` (starts, P) -> a batched optax state."""
+    return jax.vmap(_optimizer(1.0, 1.0).init)(u)
+
+
+@jax.jit
+def _ascend_all(g, state, u, learning_rate, clip):
+    """One optax step per start that *increases* the objective (optax minimises: it is fed -g).
+    ``g``, ``u`` (starts, P); ``learning_rate``, ``clip`` () (traced: one compile for all values)."""
+    opt = _optimizer(learning_rate, clip)
+
+    def one(g, state, u):
+        updates, state = opt.update(-g, state, u)
+        return optax.apply_updates(u, updates), state
+
+    return jax.vmap(one)(g, state, u)
+
+
+def _signature(args) -> tuple:
+    """What a compiled program is keyed on besides the static configuration: the arguments' tree
+    structure and each leaf's shape and dtype (hashable)."""
+    leaves, tree = jax.tree_util.tree_flatten(args)
+    return tree, tuple((tuple(a.shape), str(a.dtype)) for a in leaves)
+
+
+@functools.lru_cache(maxsize=8)
+def _surrogate_program(objective: str, config: SimConfig, box: Box, signature: tuple):
+    """The compiled ``(u, stone, water, width) -> (values, gradients)`` of the surrogate for every
+    start (``u`` (starts, P) unconstrained; ``stone``, ``water``, ``width`` [m] are arguments, not
+    constants, so a search with other values, or a repeated search, reuses the program: compiling the
+    whole throw's reverse pass takes 15-40 s on a 2-core machine). Memoised on the static
+    configuration and ``signature`` (:func:`_signature`); returns ``(compiled, sharding of u)``.
+
+    The starts are split over the local devices (``import jaxskip`` makes one CPU device per core):
+    each device runs ``lax.map`` over its share (shard_map; a map, not a vmap, so every rollout keeps
+    its skip of finished segments)."""
+    tree, leaves = signature
+
+    def value_and_grad(u, stone, water, width):
+        f = make_objective(objective, config, stone, water, width)
+        return jax.lax.map(jax.value_and_grad(lambda ui: f(box.to_throw(ui))), u)
+
+    starts = leaves[0][0][0]
+    sharding = _starts_sharding(starts)
+    if sharding is not None:
+        spec, rep = sharding.spec, jax.sharding.PartitionSpec()
+        value_and_grad = jax.shard_map(value_and_grad, mesh=sharding.mesh, in_specs=(spec, rep, rep, rep),
+                                       out_specs=(spec, spec), check_vma=False)  # per-shard work, no collectives
+    shapes = [jax.ShapeDtypeStruct(shape, np.dtype(dtype)) for shape, dtype in leaves]
+    if sharding is not None:
+        shapes[0] = jax.ShapeDtypeStruct(shapes[0].shape, shapes[0].dtype, sharding=sharding)
+    abstract = jax.tree_util.tree_unflatten(tree, shapes)
+    return jax.jit(value_and_grad).lower(*abstract).compile(), sharding
 
 
 def perturbation_search(box: Box | None = None, *, stone="paper", config: SimConfig | None = None,
@@ -572,9 +618,8 @@ def perturbation_search(box: Box | None = None, *, stone="paper", config: SimCon
     rigid, _ = resolve_stone(stone)
     rng = np.random.default_rng(seed)
     u = box.from_user(_random_points(box, starts, rng))
-    opt = optax.adam(learning_rate)
-    state = jax.vmap(opt.init)(jnp.asarray(u))
-    step_opt = jax.jit(jax.vmap(lambda g, s, u: _ascend(opt, g, s, u)))
+    state = _init_optimizer(float_array(u))
+    hyper = (float_array(learning_rate), float_array(np.inf))  # no clip: the estimates are finite counts
     p = u.shape[-1]
     history, visited, best, forward = [], [], _Best(box, "bounces"), 0
     for it in range(iterations):
@@ -589,7 +634,7 @@ def perturbation_search(box: Box | None = None, *, stone="paper", config: SimCon
         visited.append({"bounces": counts.ravel().tolist(), "points": {k: v.tolist() for k, v in values.items()}})
         diff = (counts[:, :samples] - counts[:, samples:2 * samples]).astype(float)
         g = np.einsum("sk,skp->sp", diff, eps) / (2.0 * sigma * samples)
-        u, state = step_opt(jnp.asarray(g), state, jnp.asarray(u))
+        u, state = _ascend_all(float_array(g), state, float_array(u), *hyper)
         u = np.asarray(u)
         centres = {k: np.asarray(v).reshape(starts, -1)[:, -1].tolist() for k, v in values.items()}
         history.append({"iteration": it, "bounces": counts[:, -1].tolist(), "objective": counts.mean(1).tolist(),

@@ -172,12 +172,28 @@ def test_gradient_search_improves_a_poor_throw(paper, water):
     # Gradient-norm monitoring: each iteration records every start's raw gradient norm, which is
     # the norm of the surrogate's gradient at that start's throw (recomputed here on its own).
     assert all(len(h["grad_norm"]) == 2 for h in r.history[:-1]) and "grad_norm" not in r.history[-1]
-    f = make_objective("bounces", config, paper, water)
-    u = box.from_user({k: np.asarray(v) for k, v in r.history[0]["points"].items()})
-    g = jax.jit(jax.vmap(jax.grad(lambda ui: f(box.to_throw(ui)))))(jnp.asarray(u))
-    np.testing.assert_allclose(r.history[0]["grad_norm"], np.linalg.norm(np.asarray(g), axis=-1), rtol=1e-6)
+    @jax.jit
+    def grads(u, water, width):
+        f = make_objective("bounces", config, paper, water, width)
+        return jax.vmap(jax.grad(lambda ui: f(box.to_throw(ui))))(u)
+
+    def norms(result, water, width):
+        u = box.from_user({k: np.asarray(v) for k, v in result.history[0]["points"].items()})
+        return np.linalg.norm(np.asarray(grads(jnp.asarray(u), water, width)), axis=-1)
+
+    np.testing.assert_allclose(r.history[0]["grad_norm"], norms(r, water, 2e-4), rtol=1e-6)
     health = gradient_health(r)
     assert health["of"] == 12 and health["starts"]["n"] == 2 and health["max"] >= health["median"] > 0.0
+    assert r.compile_time > 0.0
+    # Searching again, with other values of everything that is not a shape or a setting (seed, step,
+    # clip, surrogate width, the water's coefficients), reuses the compiled gradient (it took 15-40 s a
+    # call) and differentiates the new surrogate, not the first search's.
+    water2 = dataclasses.replace(water, c_lift=water.c_lift * 1.3)
+    again = gradient_search(box, config=config, starts=2, iterations=1, learning_rate=0.2, clip=3.0,
+                            width=4e-4, water=water2, seed=5)
+    assert again.compile_time == 0.0 and again.gradient_evals == 2
+    np.testing.assert_allclose(again.history[0]["grad_norm"], norms(again, water2, 4e-4), rtol=1e-6)
+    assert not np.allclose(again.history[0]["grad_norm"], norms(again, water, 2e-4), rtol=1e-3)
 
 
 def test_polish_samples_near_the_best_throws_and_counts_exactly():
