@@ -128,8 +128,9 @@ class ThrowResult:
     config: SimConfig
     """The simulation settings used."""
     stone_name: str
-    """The stone's name: a built-in name, a mesh's ``name`` (for an ``.obj`` path: the file's name
-    without the folder and suffix), or ``"custom"`` for a RigidStone."""
+    """The stone's name: the built-in name asked for (``"clanet"``), a mesh's ``name`` for a
+    :class:`TriMesh` (which need not say its size: ``paper_stone(radius=0.03)`` is ``"paper"``), the
+    file's name without the folder and suffix for an ``.obj`` path, or ``"custom"`` for a RigidStone."""
     mass: float
     """Stone mass [kg]."""
     water: WaterParams
@@ -210,21 +211,22 @@ def resolve_stone(stone, *, mass=None, density=None) -> tuple[RigidStone, str]:
 
     ``mass`` [kg] or ``density`` [kg/m^3] (in [100, 25000] kg/m^3, or a mass giving such a density)
     override the stone's default density; a ready :class:`RigidStone` is checked
-    (:meth:`RigidStone.check`) and taken as it is. Returns ``(RigidStone, name)`` (``"custom"`` for a
-    ready stone).
+    (:meth:`RigidStone.check`) and taken as it is. Returns ``(RigidStone, name)``: the built-in name as
+    given, a mesh's ``name``, an ``.obj`` file's stem, or ``"custom"`` for a ready stone.
     """
     if mass is not None and density is not None:
         raise ParameterError("give mass or density, not both")
     if isinstance(stone, RigidStone):
         if mass is not None or density is not None:
             raise ParameterError("mass/density cannot be changed on a ready RigidStone")
-        return stone.check(), "custom"
+        return float_leaves(stone.check()), "custom"
     if isinstance(stone, str) and stone in BUILTIN_STONES:
         # validated (and made hashable floats) before the cache sees them
         mass = None if mass is None else check_positive("mass", mass, unit="kg")
         density = None if density is None else check_range("density", density, *DENSITY_RANGE,
                                                            unit="kg/m^3 (cork to osmium)")
-        return _builtin_stone(stone, mass, density, bool(jax.config.jax_enable_x64))
+        # named as asked: "clanet" is a mesh named "disk", another size than the built-in "disk"
+        return _builtin_stone(stone, mass, density, bool(jax.config.jax_enable_x64))[0], stone
     if isinstance(stone, (str, os.PathLike)):
         mesh, default_density = load_stone(stone)
     elif isinstance(stone, TriMesh):
@@ -295,7 +297,7 @@ def checked_water(water) -> WaterParams:
     """``water`` after its type and range checks (:meth:`WaterParams.check`)."""
     if not isinstance(water, WaterParams):
         raise ParameterError(f"water must be a jaxskip.WaterParams (see jaxskip.water_params), got {type(water).__name__}")
-    return water.check()
+    return float_leaves(water.check())  # (a weakly typed or integer leaf would compile the programs apart)
 
 
 @functools.lru_cache(maxsize=8)
@@ -371,7 +373,7 @@ def simulate(
     config = checked_config(config)
     chunk = check_int("chunk", chunk, minimum=1)
     progress = check_bool("progress", progress)
-    water = _default_water(config.force.law, x64) if water is None else float_leaves(checked_water(water))
+    water = _default_water(config.force.law, x64) if water is None else checked_water(water)
     throw = float_leaves(throw)  # (Python floats, jnp.asarray(9.0): weak types would compile the chunk again)
     rigid, name = resolve_stone(stone, mass=mass, density=density)
 

@@ -61,6 +61,11 @@ class RigidStone:
         leaves = {f.name: getattr(self, f.name) for f in dataclasses.fields(self)}
         if any(isinstance(v, jax.core.Tracer) for v in leaves.values()):
             return self
+        for k, v in leaves.items():  # not strings, bools, None or complex numbers (float64 would read "0.12")
+            kind = np.asarray(v).dtype.kind
+            if kind not in "fiu":
+                raise ParameterError(f"stone.{k} must hold real numbers, got {type(v).__name__} of dtype "
+                                     f"{np.asarray(v).dtype} ({v!r:.60})")
         a = {k: np.asarray(v, dtype=np.float64) for k, v in leaves.items()}
         tri = a["triangles"].shape
         if len(tri) != 3 or tri[1:] != (3, 3) or tri[0] < 1:

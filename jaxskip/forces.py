@@ -126,8 +126,9 @@ class WaterParams:
         for name in ("c_lift", "c_friction", "rho_water", "gravity"):
             if np.shape(getattr(self, name)) != ():
                 raise ParameterError(f"{name} must be a scalar, got shape {np.shape(getattr(self, name))}")
-        _check_constants(float(np.asarray(self.c_lift)), float(np.asarray(self.c_friction)),
-                         float(np.asarray(self.rho_water)), float(np.asarray(self.gravity)))
+        # check_range refuses strings, bools, None and complex numbers, which float() reads or misreports:
+        # WaterParams("1.0", ...) ran as 1.0 in simulate() and failed inside JAX in simulate_batch
+        _check_constants(self.c_lift, self.c_friction, self.rho_water, self.gravity)
         return self
 
 

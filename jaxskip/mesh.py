@@ -245,12 +245,12 @@ def validate_mesh(vertices, faces, *, name: str = "mesh") -> None:
     MeshError
         On the first problem found, in this order: shapes/dtypes; fewer than
         4 triangles (a closed mesh needs at least 4); non-finite vertices;
-        indices out of range; triangles with a repeated index;
-        degenerate triangles (area ``<= 1e-12 * d**2`` with ``d`` the
-        bounding-box diagonal); edges not shared by exactly two triangles
-        (holes or non-manifold edges); inconsistent orientation (a directed
-        edge used twice); vertices that no triangle uses (they would enter the
-        stone's size); more than one connected part (a stone is one closed
+        indices out of range; triangles with a repeated index; vertices that
+        no triangle uses (they would enter the stone's size); degenerate
+        triangles (area ``<= 1e-12 * d**2`` with ``d`` the bounding-box
+        diagonal); edges not shared by exactly two triangles (holes or
+        non-manifold edges); inconsistent orientation (a directed edge used
+        twice); more than one connected part (a stone is one closed
         surface: a second part could be inside out, or nested inside the
         first, and its volume would count wrongly); non-positive signed
         volume (inside-out mesh).
@@ -438,6 +438,7 @@ def mass_properties(mesh: TriMesh, *, density: float | None = None,
     ``I = rho (tr(C_c) 1 - C_c)``.  The result is exact up to rounding for any
     closed mesh.
     """
+    _check_mesh_type(mesh)
     if (density is None) == (mass is None):
         raise MeshError("give exactly one of density [kg/m^3] or mass [kg]")
     if density is not None:
@@ -609,6 +610,13 @@ def read_obj(path: str | os.PathLike, *, name: str | None = None) -> TriMesh:
     return TriMesh(v, f, name if name is not None else path.stem)
 
 
+def _check_mesh_type(mesh) -> None:
+    """``mesh`` must be a :class:`TriMesh` (a name such as ``"paper"`` met an AttributeError inside)."""
+    if not isinstance(mesh, TriMesh):
+        raise MeshError(f"mesh must be a jaxskip.TriMesh (e.g. jaxskip.paper_stone(), jaxskip.read_obj(path)), "
+                        f"got {type(mesh).__name__}")
+
+
 def write_obj(path: str | os.PathLike, mesh: TriMesh) -> None:
     """Write a mesh as a Wavefront OBJ file (``v`` and ``f`` lines only).
 
@@ -622,6 +630,7 @@ def write_obj(path: str | os.PathLike, mesh: TriMesh) -> None:
     mesh : TriMesh
         Mesh to write; faces become 1-based indices.
     """
+    _check_mesh_type(mesh)
     title = " ".join(mesh.name.split())  # keep the comment on one line
     lines = [f"# {title}: {len(mesh.vertices)} vertices, {mesh.n_triangles} triangles, metres"]
     lines += [f"v {float(x)!r} {float(y)!r} {float(z)!r}" for x, y, z in mesh.vertices]

@@ -55,7 +55,7 @@ from ._checks import ParameterError, check_bool, check_choice, check_int, check_
 from .body import RigidStone
 from .forces import (ForceModel, WaterParams, body_total_force, body_triangle_forces, body_water_load, flat_surface,
                      vertex_heights)
-from .throw import Throw, attitude
+from .throw import MAX_SPEED, Throw, attitude
 
 INTEGRATORS = ("euler", "rk4")
 ATTITUDES = ("free", "fixed")
@@ -94,7 +94,7 @@ class SimConfig:
     unconverged: :func:`jaxskip.simulate` and :func:`jaxskip.simulate_batch` then warn
     (:class:`AccuracyWarning`)."""
     duration: float = 5.0
-    """Simulated time limit [s], > 0."""
+    """Simulated time limit [s], >= dt."""
     max_steps: int = 20250
     """Scan length: steps available for contacts and flights (outcome ``step_limit`` if too few).
     The default is :func:`steps_for` of the default ``duration`` and ``dt``: a stone may stay in the
@@ -116,7 +116,7 @@ class SimConfig:
     bounce_clearance: float = 1e-3
     """A contact ends in a bounce once the lowest point is this far above the water [m], > 0."""
     stop_speed: float = 0.05
-    """Below this speed [m/s] (> 0) in the water the stone counts as stopped."""
+    """Below this speed [m/s] (in (0, 100], the fastest throw) in the water the stone counts as stopped."""
     record: bool = True
     """Return per-step records (a bool): time, position, attitude, wetted area, water force, gap, velocity
     and angular velocity, 19 numbers a step (76 / 152 B in float32 / float64: 1.5 / 3 MB for a
@@ -138,7 +138,10 @@ class SimConfig:
         set_ = functools.partial(object.__setattr__, self)
         set_("dt", check_range("dt", self.dt, 0.0, MAX_DT, unit="s", low_open=True))
         set_("duration", check_positive("duration", self.duration, unit="s"))
-        check_int("max_steps", self.max_steps, minimum=1, maximum=MAX_STEPS)
+        if self.duration < self.dt:
+            raise ParameterError(f"duration must be >= dt ({self.dt:g} s), got {self.duration:g} s (the first step "
+                                 "would already overrun it)")
+        set_("max_steps", check_int("max_steps", self.max_steps, minimum=1, maximum=MAX_STEPS))
         check_choice("integrator", self.integrator, INTEGRATORS)
         check_choice("attitude", self.attitude, ATTITUDES)
         check_choice("flight", self.flight, FLIGHTS)
@@ -146,12 +149,12 @@ class SimConfig:
         if self.max_flight_step < self.dt:
             raise ParameterError(f"max_flight_step must be >= dt ({self.dt:g} s), got {self.max_flight_step:g} s "
                                  "(every step would shrink to it)")
-        check_int("max_contacts", self.max_contacts, minimum=1, maximum=100_000)
+        set_("max_contacts", check_int("max_contacts", self.max_contacts, minimum=1, maximum=100_000))
         set_("bounce_clearance", check_positive("bounce_clearance", self.bounce_clearance, unit="m"))
-        set_("stop_speed", check_positive("stop_speed", self.stop_speed, unit="m/s"))
-        check_int("segment", self.segment, minimum=1, maximum=MAX_STEPS)
-        check_int("checkpoint", self.checkpoint, minimum=0, maximum=1)
-        check_bool("record", self.record)
+        set_("stop_speed", check_range("stop_speed", self.stop_speed, 0.0, MAX_SPEED, unit="m/s", low_open=True))
+        set_("segment", check_int("segment", self.segment, minimum=1, maximum=MAX_STEPS))
+        set_("checkpoint", check_int("checkpoint", self.checkpoint, minimum=0, maximum=1))
+        set_("record", check_bool("record", self.record))
         if not isinstance(self.force, ForceModel):
             raise ParameterError(f"force must be a jaxskip.ForceModel (e.g. ForceModel(law='bocquet')), "
                                  f"got {self.force!r}")
@@ -873,6 +876,22 @@ def _scan(config: SimConfig, step, carry, stone, water):
     return carry, (unpack(recs) if config.record else None)
 
 
+def _check_rollout_args(config, throw, stone, water) -> None:
+    """Types, and one throw (not a batch), checked while tracing (values cannot be): arguments in another
+    order or a batch met an AttributeError or a broadcasting error deep inside the step."""
+    for name, value, cls, hint in (("config", config, SimConfig, "jaxskip.SimConfig"),
+                                   ("throw", throw, Throw, "jaxskip.Throw"),
+                                   ("stone", stone, RigidStone, "jaxskip.RigidStone (see jaxskip.rigid_stone)"),
+                                   ("water", water, WaterParams, "jaxskip.WaterParams (see jaxskip.water_params)")):
+        if not isinstance(value, cls):
+            raise ParameterError(f"rollout(config, throw, stone, water): {name} must be a {hint}, got "
+                                 f"{type(value).__name__}")
+    shapes = {f.name: tuple(np.shape(getattr(throw, f.name))) for f in dataclasses.fields(throw)}
+    if any(shape != () for shape in shapes.values()):
+        raise ParameterError(f"rollout takes one throw (every field of shape ()), got shapes {shapes}: jax.vmap "
+                             "it over a batch, or use jaxskip.simulate_batch")
+
+
 def rollout(config: SimConfig, throw: Throw, stone: RigidStone, water: WaterParams, surface=flat_surface):
     """Simulate one throw for ``config.max_steps`` steps: pure, jit/vmap/grad-able.
 
@@ -901,6 +920,7 @@ def rollout(config: SimConfig, throw: Throw, stone: RigidStone, water: WaterPara
     >>> int(tracker.bounces) > 5, OUTCOMES[int(tracker.outcome)]
     (True, 'sank')
     """
+    _check_rollout_args(config, throw, stone, water)
     state = initial_state(throw, stone)
     carry = (state, _new_tracker(config.max_contacts, state.position.dtype))
     step = make_step(config, surface)
@@ -909,6 +929,15 @@ def rollout(config: SimConfig, throw: Throw, stone: RigidStone, water: WaterPara
 
 
 rollout_jit = jax.jit(rollout, static_argnames=("config", "surface"))
-"""``rollout`` compiled once per (config, surface); new throws, stones of the same size and water constants reuse it.
-Arguments as :func:`rollout`; ``config`` and ``surface`` are static (hashable: a :class:`SimConfig`, and a
-callable ``surface(x, y) -> height`` [m], default flat water, hashed by identity)."""
+rollout_jit.__doc__ = """:func:`rollout` compiled once per (config, surface); new throws, stones
+of the same size and water constants reuse it (leaves of the same dtype: a Python float or a weakly typed
+scalar compiles apart, see :class:`Throw`). Arguments and returns as :func:`rollout`; ``config`` and
+``surface`` are static (hashable: a :class:`SimConfig`, and a callable ``surface(x, y) -> height`` [m],
+default flat water, hashed by identity).
+
+>>> from jaxskip import SimConfig, Throw, paper_stone, rigid_stone, water_params
+>>> stone, water = rigid_stone(paper_stone(), density=2650.0), water_params()
+>>> state, tracker, _ = rollout_jit(SimConfig(record=False), Throw.from_degrees(), stone, water)
+>>> int(tracker.bounces) > 5
+True
+"""

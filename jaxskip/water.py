@@ -704,7 +704,7 @@ def height_at(grid: WaterGrid, height, x, y, origin=None):
     edge columns), beyond a corner the corner column's.
     Returns ``height - depth`` interpolated, with the shape of ``x``.
     """
-    nx, ny = grid.shape
+    nx, ny = _check_grid(grid).shape
     if tuple(jnp.shape(height)) != grid.shape:
         raise ParameterError(f"height must have the grid's shape {grid.shape}, got {tuple(jnp.shape(height))}")
     ox, oy = grid.origin if origin is None else (origin[0], origin[1])

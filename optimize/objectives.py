@@ -60,8 +60,8 @@ def soft_bounce_count(records, clearance: float = CLEARANCE, width: float = WIDT
     r"""Smooth bounce count :math:`\tilde N` from a rollout's per-step records.
 
     ``records``: the :class:`jaxskip.Record` of one throw's rollout (:func:`jaxskip.rollout` with
-    ``config.record``), with a leading step axis of length T: ``time`` (T,) [s], ``gap`` (T,) [m] (for a
-    batch, ``jax.vmap`` this function over it). Returns a scalar [-]. ``clearance`` [m]: the level the
+    ``config.record``), with a leading step axis of length T; read: ``time`` (T,) [s], ``gap`` (T,) [m]
+    and ``wetted_area`` (T,) [m^2] (for a batch, ``jax.vmap`` this function over it). Returns a scalar [-]. ``clearance`` [m]: the level the
     lowest point must rise above (the tracker's ``bounce_clearance``); ``width`` [m]: the sigmoid's
     width (the sharpening knob).
     Steps taken out of play repeat the time and are ignored.
@@ -107,6 +107,10 @@ def distance(state, throw: Throw, stone: RigidStone):
 
     ``state``: a :class:`jaxskip.StoneState` (position (3,) [m]) of the ``throw`` (one :class:`Throw`,
     shape ()) of ``stone``; under ``vmap`` both carry the batch axis. Returns a scalar [m]."""
+    for name, value, cls in (("throw", throw, Throw), ("stone", stone, RigidStone)):
+        if not isinstance(value, cls):
+            raise ParameterError(f"distance(state, throw, stone): {name} must be a jaxskip.{cls.__name__}, got "
+                                 f"{type(value).__name__}")
     start = initial_state(throw, stone).position
     d = state.position[:2] - start[:2]
     return jnp.sqrt(jnp.sum(d * d) + 1e-30)

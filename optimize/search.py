@@ -159,6 +159,9 @@ def gradient_health(result: SearchResult) -> dict | None:
     the rollout's chaos rather than the count's trend (a shorter ``horizon`` tames it); a
     vanishing one has nothing to climb.
     """
+    if not isinstance(result, SearchResult):
+        raise ParameterError(f"result must be an optimize.SearchResult (what the searches return), got "
+                             f"{type(result).__name__}")
     rows = [h["grad_norm"] for h in result.history if h.get("grad_norm")]
     if not rows:
         return None

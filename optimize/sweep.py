@@ -52,7 +52,7 @@ import jax
 import numpy as np
 
 from jaxskip import Throw, simulate_batch
-from jaxskip._checks import ParameterError, check_array, check_bool, check_int
+from jaxskip._checks import ParameterError, check_array, check_bool, check_int, check_range
 from jaxskip._docs import document_fields
 from jaxskip.settings import SIM_DEFAULTS, describe, simulation
 from jaxskip.throw import MAX_SPEED, MAX_SPIN_REVS
@@ -95,6 +95,12 @@ def limit_text(name: str) -> str:
 def _check_throws(name: str, value) -> np.ndarray:
     low, high, low_open, high_open, unit = THROW_LIMITS[name]
     return check_array(name, value, low, high, unit=unit, low_open=low_open, high_open=high_open)
+
+
+def _check_throw(name: str, value) -> float:
+    """One number (a sweep's ``speed`` or ``spin``), checked as :func:`_check_throws`."""
+    low, high, low_open, high_open, unit = THROW_LIMITS[name]
+    return check_range(name, value, low, high, unit=unit, low_open=low_open, high_open=high_open)
 
 
 MAX_ANGLES = 100_000
@@ -228,10 +234,13 @@ def make_spec(kind: str, *, tilts, attacks=(REFERENCE["attack"],), speed: float 
     iterations = check_int("iterations", iterations, minimum=1, maximum=MAX_BISECTIONS)
     # every speed, tilt, attack and spin the sweep throws: checked against THROW_LIMITS (what --help shows),
     # then as the throw checks them
-    _check_throws("speed", speed)
+    speed = _check_throw("speed", speed)   # one number each (a list ran into float() below)
     _check_throws("tilt", tilts)
     _check_throws("attack", attacks)
-    _check_throws("spin", spin)
+    spin = _check_throw("spin", spin)
+    if not isinstance(stone, (str, os.PathLike)):  # the spec stores it as text, to be loaded again
+        raise ParameterError(f"stone must be a built-in name or an .obj path, got {type(stone).__name__} (a sweep "
+                             "records its stone by name in spec.json: write a mesh with jaxskip.write_obj)")
     Throw.from_degrees(speed=np.array([speed, lo, hi], dtype=float)[:, None, None], tilt=np.array(tilts)[:, None],
                        attack=np.array(attacks), spin=spin)
     sim = {**SIM_DEFAULTS, **sim, "stone": stone, "attitude": attitude}

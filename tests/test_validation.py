@@ -482,3 +482,81 @@ def test_review_fixes_session_23(index):
     call, message = _session_23_bad_inputs()[index]
     with pytest.raises(ParameterError, match=message):
         call()
+
+
+def _session_25_bad_inputs():
+    import dataclasses
+
+    import numpy as np
+
+    from jaxskip import (WaterParams, height_at, mass_properties, rollout, rigid_stone, simulate, simulate_batch,
+                         water_params, write_obj)
+    from optimize import distance, gradient_health, make_spec
+
+    stone = rigid_stone(paper_stone(), density=2650.0)
+    one, config, water = Throw.from_degrees(), SimConfig(max_steps=50), water_params()
+    return [
+        # WaterParams and RigidStone built by hand: float() read "1.0" and True (simulate ran with them, the
+        # batch and the search failed inside JAX, after a 25 s compile); None and 1+2j gave a bare TypeError
+        (lambda: simulate(one, config=config, water=WaterParams("1.0", 0.3, 1000.0, 9.81)),
+         r"c_lift must be a real number in \[0, 10\], got '1.0'"),
+        (lambda: simulate_batch(Throw.from_degrees(speed=[5.0, 6.0]), config=config,
+                                water=WaterParams(1.0, True, 1000.0, 9.81)), "c_friction must be a real number"),
+        (lambda: WaterParams(None, 0.3, 1000.0, 9.81).check(), "c_lift must be a real number"),
+        (lambda: WaterParams(1.0, 0.3, 1000.0 + 1j, 9.81).check(), "rho_water must be a real number"),
+        (lambda: simulate(one, dataclasses.replace(stone, mass="0.12"), config=config),
+         "stone.mass must hold real numbers"),
+        # a list for the one speed or spin of a sweep passed its check and failed in float() / np.array
+        (lambda: make_spec("umin", tilts=[20.0], iterations=1, spin=[10.0, 20.0]),
+         r"spin must be a real number in \[-500, 500\] rev/s"),
+        (lambda: make_spec("domain", tilts=[20.0], speed=[3.0, 4.0]), r"speed must be a real number in \(0, 100\]"),
+        # a mesh was stored as its repr (kB of arrays) and the sweep failed to load it by that "name"
+        (lambda: make_spec("umin", tilts=[20.0], iterations=1, stone=paper_stone()),
+         "stone must be a built-in name or an .obj path, got TriMesh"),
+        # arguments in another order, or a batch, met an AttributeError or a broadcasting error inside the step
+        (lambda: rollout(one, config, stone, water), "config must be a jaxskip.SimConfig, got Throw"),
+        (lambda: rollout(config, one, water, stone), "stone must be a jaxskip.RigidStone .* got WaterParams"),
+        (lambda: rollout(config, Throw.from_degrees(speed=[5.0, 6.0]), stone, water),
+         r"rollout takes one throw .*'speed': \(2,\)"),
+        # settings that cannot make sense: stopped at release; a time limit inside the first step
+        (lambda: SimConfig(stop_speed=1e9), r"stop_speed must be in \(0, 100\] m/s"),
+        (lambda: SimConfig(dt=5e-3, duration=1e-3), r"duration must be >= dt \(0.005 s\)"),
+        # names or other objects where a mesh, a grid or a search result belongs: bare AttributeErrors
+        (lambda: mass_properties("paper", density=2650.0), "mesh must be a jaxskip.TriMesh .* got str"),
+        (lambda: write_obj("/tmp/never-written.obj", "paper"), "mesh must be a jaxskip.TriMesh"),
+        (lambda: height_at("grid", np.zeros((4, 4)), 0.0, 0.0), "grid must be a jaxskip.WaterGrid"),
+        (lambda: gradient_health("x"), r"result must be an optimize.SearchResult \(.*\), got str"),
+        (lambda: distance(None, None, stone), "throw must be a jaxskip.Throw, got NoneType"),
+    ]
+
+
+@pytest.mark.parametrize("index", range(len(_session_25_bad_inputs())))
+def test_review_fixes_session_25(index):
+    """Found by a review of the Python API in session 25: each ran on with a wrong value, or failed inside JAX
+    (after tracing, some after a compile) or with a bare TypeError / AttributeError naming no parameter."""
+    call, message = _session_25_bad_inputs()[index]
+    with pytest.raises(ParameterError, match=message):
+        call()
+
+
+def test_session_25_values_of_other_types_are_stored_as_python_numbers():
+    """SimConfig kept NumPy integers (its result's to_dict() was not JSON-ready); simulate_batch ran a float16
+    throw into a type error inside the pool (and an integer one into a compile of its own); a built-in stone
+    reported its mesh's name ("clanet" as "disk", another stone of 7 times its mass)."""
+    import json
+
+    import numpy as np
+
+    from jaxskip import simulate_batch
+
+    c = SimConfig(max_steps=np.int64(50), max_contacts=np.int32(8), segment=np.int64(25), checkpoint=np.int64(0),
+                  record=np.bool_(True))
+    assert all(type(getattr(c, k)) is int for k in ("max_steps", "max_contacts", "segment", "checkpoint"))
+    assert type(c.record) is bool
+    r = simulate(Throw.from_degrees(), config=c, stone="clanet")
+    assert r.stone_name == "clanet"
+    assert json.loads(json.dumps(r.to_dict()))["parameters"]["stone"] == "clanet"
+    values = (5.0, 0.3, 0.1, 10.0, 0.001, 0.0)
+    low = simulate_batch(Throw(*[np.full(3, v, np.float16) for v in values]), config=c)
+    full = simulate_batch(Throw(*[np.full(3, np.float16(v)).astype(float) for v in values]), config=c)
+    np.testing.assert_array_equal(low.distance, full.distance)
