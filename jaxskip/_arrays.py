@@ -21,10 +21,12 @@ def float_leaves(tree):
     """Every leaf of ``tree`` (a :class:`jaxskip.Throw`, :class:`jaxskip.WaterParams`, ...) as
     :func:`float_array`: a Python float or ``jnp.asarray(9.0)`` is *weakly* typed, which jit keys apart
     from the strong arrays :meth:`jaxskip.Throw.from_degrees` and :func:`jaxskip.water_params` make, so
-    the same computation would compile again. A tree whose leaves are all such arrays already is
+    the same computation would compile again. A tree whose leaves are all such arrays already (and not
+    committed to a device, which a program with other arguments on another device would refuse) is
     returned as it is (the same object)."""
     dtype = jax.dtypes.canonicalize_dtype(np.float64)
-    if all(isinstance(a, jax.Array) and a.dtype == dtype and not a.weak_type for a in jax.tree_util.tree_leaves(tree)):
+    if all(isinstance(a, jax.Array) and a.dtype == dtype and not a.weak_type and not a.committed
+           for a in jax.tree_util.tree_leaves(tree)):
         return tree
     return jax.tree_util.tree_map(float_array, tree)
 

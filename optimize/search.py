@@ -517,22 +517,25 @@ def _starts_sharding(starts: int):
 
 
 def _optimizer(learning_rate, clip) -> optax.GradientTransformation:
-    """Adam after a clip to global norm ``clip`` (per start). The hyperparameters may be traced: the
-    compiled step below serves every value, and the optimizer's state does not depend on them."""
-    return optax.chain(optax.clip_by_global_norm(clip), optax.adam(learning_rate))
+    """Adam after a clip to global norm ``clip`` (per start; ``clip=None``: Adam alone). The
+    hyperparameters may be traced: the compiled step below serves every value, and the optimizer's state
+    does not depend on them."""
+    adam = optax.adam(learning_rate)
+    return adam if clip is None else optax.chain(optax.clip_by_global_norm(clip), adam)
 
 
-@jax.jit
-def _init_optimizer(u):
+@functools.partial(jax.jit, static_argnames="clipped")
+def _init_optimizer(u, clipped: bool = True):
     """The optimizer's state for each start: ``u`` (starts, P) -> a batched optax state."""
-    return jax.vmap(_optimizer(1.0, 1.0).init)(u)
+    return jax.vmap(_optimizer(1.0, 1.0 if clipped else None).init)(u)
 
 
-@jax.jit
-def _ascend_all(g, state, u, learning_rate, clip):
+@functools.partial(jax.jit, static_argnames="clipped")
+def _ascend_all(g, state, u, learning_rate, clip=None, clipped: bool = True):
     """One optax step per start that *increases* the objective (optax minimises: it is fed -g).
-    ``g``, ``u`` (starts, P); ``learning_rate``, ``clip`` () (traced: one compile for all values)."""
-    opt = _optimizer(learning_rate, clip)
+    ``g``, ``u`` (starts, P); ``learning_rate``, ``clip`` () (traced: one compile for all values; with
+    ``clipped=False`` no clip, ``clip`` unused: Adam alone, as the perturbation search steps)."""
+    opt = _optimizer(learning_rate, clip if clipped else None)
 
     def one(g, state, u):
         updates, state = opt.update(-g, state, u)
@@ -621,8 +624,8 @@ def perturbation_search(box: Box | None = None, *, stone="paper", config: SimCon
     rigid, _ = resolve_stone(stone)
     rng = np.random.default_rng(seed)
     u = box.from_user(_random_points(box, starts, rng))
-    state = _init_optimizer(float_array(u))
-    hyper = (float_array(learning_rate), float_array(np.inf))  # no clip: the estimates are finite counts
+    state = _init_optimizer(float_array(u), clipped=False)  # no clip: the estimates are finite counts
+    rate = float_array(learning_rate)
     p = u.shape[-1]
     history, visited, best, forward = [], [], _Best(box, "bounces"), 0
     for it in range(iterations):
@@ -637,7 +640,7 @@ def perturbation_search(box: Box | None = None, *, stone="paper", config: SimCon
         visited.append({"bounces": counts.ravel().tolist(), "points": {k: v.tolist() for k, v in values.items()}})
         diff = (counts[:, :samples] - counts[:, samples:2 * samples]).astype(float)
         g = np.einsum("sk,skp->sp", diff, eps) / (2.0 * sigma * samples)
-        u, state = _ascend_all(float_array(g), state, float_array(u), *hyper)
+        u, state = _ascend_all(float_array(g), state, float_array(u), rate, clipped=False)
         u = np.asarray(u)
         centres = {k: np.asarray(v).reshape(starts, -1)[:, -1].tolist() for k, v in values.items()}
         history.append({"iteration": it, "bounces": counts[:, -1].tolist(), "objective": counts.mean(1).tolist(),

@@ -413,3 +413,29 @@ def test_gradients_beyond_float32_squares_still_step():
     step = np.asarray(step, dtype=np.float64)
     assert np.linalg.norm(step) == pytest.approx(1.0, rel=1e-6)
     assert step == pytest.approx(g[0] / np.linalg.norm(g[0].astype(np.float64)), rel=1e-6)
+
+
+def test_perturbation_search_steps_with_adam_alone_bit_for_bit():
+    """The optimizer step compiled once for every learning rate (traced) is plain optax Adam for the
+    perturbation search: no clip stage, which rounded its centres differently from the third step on."""
+    import optax
+
+    from jaxskip._arrays import float_array
+    from optimize.search import _ascend_all, _init_optimizer
+
+    rng = np.random.default_rng(0)
+    u0, rate = rng.standard_normal((4, 3)), 0.3
+    opt = optax.adam(rate)
+
+    def reference(g, s, u):
+        updates, s = opt.update(-g, s, u)
+        return optax.apply_updates(u, updates), s
+
+    reference = jax.jit(jax.vmap(reference))
+    s_ref, u_ref = jax.vmap(opt.init)(float_array(u0)), float_array(u0)
+    s_new, u_new = _init_optimizer(float_array(u0), clipped=False), float_array(u0)
+    for _ in range(12):
+        g = float_array(rng.standard_normal((4, 3)) * 10.0 ** rng.uniform(-3, 3))
+        u_ref, s_ref = reference(g, s_ref, u_ref)
+        u_new, s_new = _ascend_all(g, s_new, u_new, float_array(rate), clipped=False)
+    np.testing.assert_array_equal(np.asarray(u_new), np.asarray(u_ref))

@@ -560,3 +560,19 @@ def test_session_25_values_of_other_types_are_stored_as_python_numbers():
     low = simulate_batch(Throw(*[np.full(3, v, np.float16) for v in values]), config=c)
     full = simulate_batch(Throw(*[np.full(3, np.float16(v)).astype(float) for v in values]), config=c)
     np.testing.assert_array_equal(low.distance, full.distance)
+
+
+def test_throw_and_water_on_different_devices_still_simulate():
+    """simulate() copies a throw and water committed to different devices to the default one (the copy
+    that also strips weak types is skipped only for uncommitted arrays)."""
+    import jax
+
+    from jaxskip import water_params
+
+    devices = jax.devices()
+    if len(devices) < 2:
+        pytest.skip("one device")
+    throw = jax.device_put(Throw.from_degrees(), devices[1])
+    water = jax.device_put(water_params(), devices[0])
+    config = SimConfig(max_steps=500)
+    assert simulate(throw, water=water, config=config).bounces == simulate(config=config).bounces
