@@ -388,8 +388,9 @@ def step(state: dict, tr: dict, stone: NpStone, water: NpWater, config) -> tuple
     inv = np.diagonal(stone.inv_inertia)
     c2, c3 = inv[1] - inv[0], inv[2] - inv[0]
     rate = np.abs(_sum3(L * R[:, :, 2]) * c3)
-    capped = (abs(c2) > ASYMMETRY_TOLERANCE * abs(c3)) & (rate > FREE_ROTATION_SUBSTEPS * (0.5 * np.pi) / LONGEST_CAP)
-    cap = np.where(capped, FREE_ROTATION_SUBSTEPS * (0.5 * np.pi) / np.where(capped, rate, 1.0), np.inf)
+    turn = FREE_ROTATION_SUBSTEPS * (0.5 * np.pi)  # a quarter turn per substep [rad]
+    capped = (abs(c2) > ASYMMETRY_TOLERANCE * abs(c3)) & (rate > turn / LONGEST_CAP)
+    cap = np.where(capped, turn / np.where(capped, rate, 1.0), np.inf)
     dt = np.maximum(np.minimum(dt, cap), config.dt)
     dt = np.minimum(dt, np.maximum(config.duration - t, config.dt))  # a jump never passes the duration
 

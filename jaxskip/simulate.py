@@ -676,9 +676,9 @@ def rotation_cap(stone: RigidStone, R, L):
     inv = jnp.diagonal(stone.inv_inertia)
     c2, c3 = inv[1] - inv[0], inv[2] - inv[0]
     rate = jnp.abs(jnp.sum(L * R[:, 2]) * c3)
-    capped = (jnp.abs(c2) > ASYMMETRY_TOLERANCE * jnp.abs(c3)) & (rate > FREE_ROTATION_SUBSTEPS * (0.5 * jnp.pi)
-                                                                  / LONGEST_CAP)
-    return jnp.where(capped, FREE_ROTATION_SUBSTEPS * (0.5 * jnp.pi) / jnp.where(capped, rate, 1.0), jnp.inf)
+    turn = FREE_ROTATION_SUBSTEPS * (0.5 * jnp.pi)  # a quarter turn per substep [rad]
+    capped = (jnp.abs(c2) > ASYMMETRY_TOLERANCE * jnp.abs(c3)) & (rate > turn / LONGEST_CAP)
+    return jnp.where(capped, turn / jnp.where(capped, rate, 1.0), jnp.inf)
 
 
 def _step_length(config, stone, water, state: StoneState, gap, wet, R, L):

@@ -344,7 +344,6 @@ def gradient_search(box: Box | None = None, *, objective: str = "bounces", stone
     if horizon is not None:
         horizon = check_int("horizon", horizon, minimum=1, maximum=config.max_steps)
     program_config = config if horizon is None else dataclasses.replace(config, max_steps=horizon)
-    make_objective(objective, program_config, rigid, water, width)  # checks the arguments before any tracing
 
     rng = np.random.default_rng(seed)
     points = _random_points(box, starts, rng)
