@@ -20,6 +20,7 @@ import jax.numpy as jnp
 import numpy as np
 
 from ._docs import document_fields
+from ._progress import ProgressLine
 from ._arrays import float_array, float_leaves
 from ._checks import ParameterError, check_bool, check_int, check_positive, check_range
 from .body import DENSITY_RANGE, RigidStone, rigid_stone
@@ -400,7 +401,7 @@ def simulate(
         carry = carry + (initial_field(water_field, carry[0].position),)
         volume0 = float(total_volume(water_field, carry[2].water))
     records = []
-    done = 0
+    done, line = 0, ProgressLine()
     while done < config.max_steps:
         n = min(chunk, config.max_steps - done)  # the last chunk stops at max_steps (compiled only if reached)
         carry, rec = runner(n)(carry, throw, np.bool_(start), rigid, water)
@@ -416,11 +417,11 @@ def simulate(
         # first call.
         alive = bool(np.asarray(carry[1].counters)[_ALIVE])
         if progress:
-            print(f"\r  simulated {float(carry[0].time):6.3f} s in {done} steps", end="", file=sys.stderr, flush=True)
+            line.update(f"  simulated {float(carry[0].time):6.3f} s in {done} steps")
         if not alive:
             break
     if progress:
-        print(file=sys.stderr)
+        line.close()
     field = None
     if water_field is not None:
         volume1 = float(total_volume(water_field, carry[2].water))

@@ -21,7 +21,6 @@ from __future__ import annotations
 import dataclasses
 import functools
 import math
-import sys
 import time
 
 import jax
@@ -29,6 +28,7 @@ import jax.numpy as jnp
 import numpy as np
 
 from ._docs import document_fields
+from ._progress import ProgressLine
 from ._checks import ParameterError, check_bool, check_int
 from .api import checked_config, checked_water, resolve_stone
 from .forces import WaterParams, water_params
@@ -199,6 +199,7 @@ def simulate_batch(
         carry = jax.device_put(carry, sharding)
     next_throw, finished, lane_steps = min(lanes, n), 0, 0
     final_state = final_tracker = None
+    line = ProgressLine()
     while finished < n:
         carry = advance(carry, rigid, water)
         lane_steps += lanes * chunk
@@ -228,9 +229,9 @@ def simulate_batch(
                 fresh[slots[:k]] = True
                 carry = refill(carry, _take(host_throws, np.maximum(np.where(fresh, new, 0), 0)), fresh, rigid)
         if progress:
-            print(f"\r  {finished}/{n} throws done ({lane_steps} lane-steps)", end="", file=sys.stderr, flush=True)
+            line.update(f"  {finished}/{n} throws done ({lane_steps} lane-steps)")
     if progress:
-        print(file=sys.stderr)
+        line.close()
 
     final_tracker = final_tracker.finish()
     outcome = final_tracker.outcome

@@ -35,7 +35,6 @@ from __future__ import annotations
 import dataclasses
 import functools
 import numbers
-import sys
 import time
 from collections.abc import Mapping
 
@@ -46,6 +45,7 @@ import optax
 from jaxskip import SimConfig, WaterParams, simulate_batch, water_params
 from jaxskip._arrays import float_array, float_leaves
 from jaxskip._docs import document_fields
+from jaxskip._progress import ProgressLine
 from jaxskip._checks import ParameterError, check_bool, check_int, check_positive, check_range
 from jaxskip.api import checked_config, checked_water, resolve_stone
 
@@ -361,6 +361,7 @@ def gradient_search(box: Box | None = None, *, objective: str = "bounces", stone
     t_grad = 0.0
     state = _init_optimizer(u)
     history, best, forward = [], _Best(box, objective), 0
+    line = ProgressLine()
     for it in range(iterations + 1):
         values = box.to_user(np.asarray(u))
         counts, dists = _exact(box, values, rigid, config, water=water)
@@ -386,10 +387,10 @@ def gradient_search(box: Box | None = None, *, objective: str = "bounces", stone
                         "grad_norm": norms})
         if progress:
             big = sum(1 for v in norms if v is None or v > EXPLODING)
-            print(f"\r  iteration {it + 1}/{iterations}: best {best.bounces} bounces, surrogate mean "
-                  f"{float(np.mean(obj)):.2f}, {big}/{starts} gradients exploding", end="", file=sys.stderr, flush=True)
+            line.update(f"  iteration {it + 1}/{iterations}: best {best.bounces} bounces, surrogate mean "
+                        f"{float(np.mean(obj)):.2f}, {big}/{starts} gradients exploding")
     if progress:
-        print(file=sys.stderr)
+        line.close()
     if polish:
         forward += _polish(box, history, POLISH_CENTRES, polish, polish_scale, rigid, config, water, seed, progress,
                            best, iterations + 1)
@@ -627,6 +628,7 @@ def perturbation_search(box: Box | None = None, *, stone="paper", config: SimCon
     rate = float_array(learning_rate)
     p = u.shape[-1]
     history, visited, best, forward = [], [], _Best(box, "bounces"), 0
+    line = ProgressLine()
     for it in range(iterations):
         eps = rng.standard_normal((starts, samples, p))
         pts = np.concatenate([u[:, None, :] + sigma * eps, u[:, None, :] - sigma * eps, u[:, None, :]], axis=1)
@@ -645,9 +647,9 @@ def perturbation_search(box: Box | None = None, *, stone="paper", config: SimCon
         history.append({"iteration": it, "bounces": counts[:, -1].tolist(), "objective": counts.mean(1).tolist(),
                         "best": best_n, "nonfinite": 0, "points": centres})
         if progress:
-            print(f"\r  iteration {it + 1}/{iterations}: best {best_n} bounces", end="", file=sys.stderr, flush=True)
+            line.update(f"  iteration {it + 1}/{iterations}: best {best_n} bounces")
     if progress:
-        print(file=sys.stderr)
+        line.close()
     if polish:
         forward += _polish(box, visited, POLISH_CENTRES, polish, polish_scale, rigid, config, water, seed, progress,
                            best, iterations)

@@ -54,6 +54,7 @@ import numpy as np
 from jaxskip import Throw, simulate_batch
 from jaxskip._checks import ParameterError, check_array, check_bool, check_int, check_range
 from jaxskip._docs import document_fields
+from jaxskip._progress import ProgressLine
 from jaxskip.settings import SIM_DEFAULTS, describe, simulation
 from jaxskip.throw import MAX_SPEED, MAX_SPIN_REVS
 
@@ -294,14 +295,15 @@ def _umin_chunk(spec: SweepSpec, sim, index: np.ndarray, progress: bool) -> dict
 
     at_high = bounces(hi)
     at_low = bounces(lo)
+    line = ProgressLine()
     for i in range(spec.iterations):
         mid = 0.5 * (lo + hi)
         ok = bounces(mid) > 0
         hi, lo = np.where(ok, mid, hi), np.where(ok, lo, mid)
         if progress:
-            print(f"\r    bisection {i + 1}/{spec.iterations}", end="", file=sys.stderr, flush=True)
+            line.update(f"    bisection {i + 1}/{spec.iterations}")
     if progress:
-        print(file=sys.stderr)
+        line.close()
     umin = np.where(at_low > 0, spec.speed_range[0], np.where(at_high > 0, hi, np.nan))
     return {"umin": [_num(x) for x in umin], "bounces_at_high": at_high.tolist(), "bounces_at_low": at_low.tolist()}
 

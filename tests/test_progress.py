@@ -1,0 +1,48 @@
+"""The progress line: rewritten in place on a terminal, one line per update (throttled) in a log file."""
+
+import io
+
+import jaxskip._progress as progress_module
+from jaxskip import Throw, simulate_batch
+from jaxskip._progress import ProgressLine
+
+
+class _Terminal(io.StringIO):
+    def isatty(self):
+        return True
+
+
+def test_a_terminal_gets_every_update_rewritten_in_place():
+    out = _Terminal()
+    line = ProgressLine(out)
+    for i in range(3):
+        line.update(f"  {i + 1}/3 done")
+    line.close()
+    assert out.getvalue() == "\r  1/3 done\r  2/3 done\r  3/3 done\n"
+
+
+def test_a_log_file_gets_whole_lines_at_most_every_interval_and_the_last(monkeypatch):
+    """Off a terminal, ``\\r`` rewrites piled up as one ever longer line (session 25's logs)."""
+    clock = iter([0.0, 1.0, 2.0, 6.0, 7.0])
+    monkeypatch.setattr(progress_module.time, "monotonic", lambda: next(clock))
+    out = io.StringIO()
+    line = ProgressLine(out)
+    for i in range(5):
+        line.update(f"  {i + 1}/5 done")
+    line.close()
+    # 0 s: written; 1, 2 s: held back; 6 s: written (5 s since 0 s); 7 s: held, written by close
+    assert out.getvalue() == "  1/5 done\n  4/5 done\n  5/5 done\n"
+    assert "\r" not in out.getvalue()
+
+
+def test_nothing_shown_nothing_closed():
+    for out in (io.StringIO(), _Terminal()):
+        ProgressLine(out).close()
+        assert out.getvalue() == ""
+
+
+def test_simulate_batch_progress_into_a_file_has_no_carriage_returns(capsys):
+    simulate_batch(Throw.from_degrees(speed=[5.0, 6.0]), progress=True)
+    err = capsys.readouterr().err
+    assert "\r" not in err
+    assert err.endswith("\n") and err.splitlines()[-1].startswith("  2/2 throws done (")
