@@ -231,6 +231,10 @@ def resolve_stone(stone, *, mass=None, density=None) -> tuple[RigidStone, str]:
         return _builtin_stone(stone, mass, density, bool(jax.config.jax_enable_x64))[0], stone
     if isinstance(stone, (str, os.PathLike)):
         mesh, default_density = load_stone(stone)
+        # checked under the path as typed, so that an error names the file given, not its stem
+        rigid, _ = _rigid_from_mesh(dataclasses.replace(mesh, name=str(stone)), default_density, mass=mass,
+                                    density=density)
+        return rigid, mesh.name
     elif isinstance(stone, TriMesh):
         from .stones import STONE_DENSITY
 

@@ -285,10 +285,11 @@ def test_audit_fixes_session_17(tmp_path):
     """Found by a new-user audit in session 17: each escaped ParameterError, or was silently accepted."""
     import dataclasses
     import pydoc
+    import re
 
     import numpy as np
 
-    from jaxskip import MeshError, SimConfig, paper_stone, rigid_stone, simulate_batch
+    from jaxskip import MeshError, SimConfig, paper_stone, resolve_stone, rigid_stone, simulate_batch, write_obj
     from jaxskip.export import write_trajectory
 
     # a stone problem is a ParameterError too (one except clause catches every refused input)
@@ -320,6 +321,13 @@ def test_audit_fixes_session_17(tmp_path):
     with pytest.raises(ParameterError, match=r"stone 'paper': its size \(bounding radius\) must be in \[1 mm, 1 m\], "
                                              r"got 50.1 m; vertices are read in metres"):
         rigid_stone(big, density=2650.0)
+    # the same stone from an .obj file: the error names the path given, not the file's stem
+    path = str(tmp_path / "mm.obj")
+    write_obj(path, big)
+    with pytest.raises(ParameterError, match=rf"stone '{re.escape(path)}': its size .* got 50.1 m"):
+        simulate(stone=path)
+    write_obj(tmp_path / "ok.obj", mesh)
+    assert resolve_stone(str(tmp_path / "ok.obj"))[1] == "ok"  # a good file is still named by its stem
     tiny = dataclasses.replace(mesh, vertices=np.asarray(mesh.vertices) * 0.01)
     with pytest.raises(ParameterError, match="its size"):
         rigid_stone(tiny, density=2650.0)
