@@ -24,7 +24,7 @@ from ._progress import ProgressLine
 from ._arrays import float_array, float_leaves
 from ._checks import ParameterError, check_bool, check_int, check_positive, check_range
 from .body import DENSITY_RANGE, RigidStone, rigid_stone
-from .forces import WaterParams, water_params
+from .forces import DEFAULT_COEFFICIENTS, WaterParams, water_params
 from .mesh import TriMesh
 from .coupled import check_shared_constants, default_water_dt, initial_field, make_coupled_step
 from .simulate import (_ALIVE, OUTCOMES, STEP_LIMIT, SimConfig, StoneState, Tracker, _new_tracker, _scan, initial_state,
@@ -194,11 +194,14 @@ class ThrowResult:
 
 
 @functools.lru_cache(maxsize=32)
-def _builtin_stone(name: str, mass, density, x64: bool) -> tuple[RigidStone, str]:
-    """A built-in stone, built once per (name, mass, density, precision): building the mesh and
-    its mass properties took ~3 ms, 15 % of a warm ``simulate()``. A ``RigidStone`` is
-    immutable, so sharing it is safe; ``x64`` keys the cache on the array precision."""
-    return _rigid_from_mesh(*load_stone(name), mass=mass, density=density)
+def _builtin_stone(name: str, entry: tuple, mass, density, x64: bool) -> tuple[RigidStone, str]:
+    """A built-in stone, built once per (name, its ``BUILTIN_STONES`` entry, mass, density, precision):
+    building the mesh and its mass properties took ~3 ms, 15 % of a warm ``simulate()``. A
+    ``RigidStone`` is immutable, so sharing it is safe; ``x64`` keys the cache on the array precision,
+    ``entry`` (factory, density) on what the public dict holds now (a stone registered again under
+    its name is built again)."""
+    factory, default_density = entry
+    return _rigid_from_mesh(factory(), default_density, mass=mass, density=density)
 
 
 def _rigid_from_mesh(mesh, default_density, *, mass, density):
@@ -228,7 +231,7 @@ def resolve_stone(stone, *, mass=None, density=None) -> tuple[RigidStone, str]:
         density = None if density is None else check_range("density", density, *DENSITY_RANGE,
                                                            unit="kg/m^3 (cork to osmium)")
         # named as asked: "clanet" is a mesh named "disk", another size than the built-in "disk"
-        return _builtin_stone(stone, mass, density, bool(jax.config.jax_enable_x64))[0], stone
+        return _builtin_stone(stone, BUILTIN_STONES[stone], mass, density, bool(jax.config.jax_enable_x64))[0], stone
     if isinstance(stone, (str, os.PathLike)):
         mesh, default_density = load_stone(stone)
         # checked under the path as typed, so that an error names the file given, not its stem
@@ -244,9 +247,21 @@ def resolve_stone(stone, *, mass=None, density=None) -> tuple[RigidStone, str]:
     return _rigid_from_mesh(mesh, default_density, mass=mass, density=density)
 
 
+def _chunk_program(config: SimConfig, chunk: int, grid=None):
+    """:func:`_chunk_runner` for a chunk of ``chunk`` steps of ``config``, keyed on what the chunk's program
+    depends on: not on ``record`` (always on here), ``checkpoint`` (none in a chunk), ``max_steps`` or a
+    ``segment`` longer than the chunk, nor on ``grid.origin`` (ignored by the coupled step), so that
+    configurations differing only there share one compiled program."""
+    key = dataclasses.replace(config, record=True, max_steps=chunk, segment=min(config.segment, chunk), checkpoint=0)
+    if grid is None:
+        return _chunk_runner(key)
+    return _chunk_runner(key, grid if grid.origin == (0.0, 0.0) else dataclasses.replace(grid, origin=(0.0, 0.0)))
+
+
 @functools.lru_cache(maxsize=32)
-def _chunk_runner(config: SimConfig, chunk: int, grid=None):
-    """One compiled chunk of ``chunk`` steps per configuration (memoised: no recompiles).
+def _chunk_runner(config: SimConfig, grid=None):
+    """One compiled chunk of ``config.max_steps`` steps per chunk configuration (memoised: no recompiles;
+    built through :func:`_chunk_program`, which sets ``record`` and the chunk's length).
 
     ``run(carry, throw, start, stone, water)``: with ``start`` true the chunk begins from the
     throw's release state and an empty tracker (``carry`` then only gives shapes, see
@@ -254,15 +269,13 @@ def _chunk_runner(config: SimConfig, chunk: int, grid=None):
     program saves a first call in a fresh process a second compile (~0.3 s).
     With a :class:`jaxskip.water.WaterGrid` the step is the coupled one (carry includes the field).
     """
-    config = dataclasses.replace(config, record=True)  # simulate() always returns the trajectory
     step = make_step(config) if grid is None else make_coupled_step(config, grid)
-    chunk_config = dataclasses.replace(config, max_steps=chunk, segment=min(config.segment, chunk), checkpoint=0)
 
     @jax.jit
     def run(carry, throw, start, stone, water):
         fresh = _release(throw, stone, config.max_contacts) + tuple(carry[2:])
         carry = jax.tree_util.tree_map(lambda a, b: jnp.where(start, a, b), fresh, carry)
-        return _scan(chunk_config, step, carry, stone, water)
+        return _scan(config, step, carry, stone, water)
 
     return run
 
@@ -306,9 +319,13 @@ def checked_water(water) -> WaterParams:
     return float_leaves(water.check())  # (a weakly typed or integer leaf would compile the programs apart)
 
 
-@functools.lru_cache(maxsize=8)
 def _default_water(law: str, x64: bool) -> WaterParams:
-    """``water_params(law)``, made once per (law, precision)."""
+    """``water_params(law)``, made once per (law, its current defaults, precision)."""
+    return _water_of(law, tuple(sorted(DEFAULT_COEFFICIENTS[law].items())), x64)
+
+
+@functools.lru_cache(maxsize=8)
+def _water_of(law: str, coefficients: tuple, x64: bool) -> WaterParams:
     return water_params(law)
 
 
@@ -387,14 +404,13 @@ def simulate(
         if not isinstance(water_field, WaterGrid):
             raise ParameterError(f"water_field must be a jaxskip.water.WaterGrid or None, got {water_field!r}")
         check_shared_constants(water_field, water, name="water_field")
-    compiled_before = _chunk_runner.cache_info().currsize
+    misses = _chunk_runner.cache_info().misses
 
     def runner(n):
-        # (called with the same arguments as the tests and other callers, so lru_cache finds the same entry)
-        return _chunk_runner(config, n) if water_field is None else _chunk_runner(config, n, water_field)
+        return _chunk_program(config, n, water_field)
 
     runner(min(chunk, config.max_steps))  # the first chunk's program (lru_cache: built once)
-    if progress and _chunk_runner.cache_info().currsize > compiled_before:
+    if progress and _chunk_runner.cache_info().misses > misses:  # (not currsize: it stops growing when full)
         print("  compiling the simulator for this configuration (once, ~2 s)...", file=sys.stderr, flush=True)
 
     frames = []

@@ -74,15 +74,22 @@ class BatchResult:
         return np.asarray(OUTCOMES, dtype=object)[self.outcome]
 
 
-@functools.lru_cache(maxsize=16)
 def _pool(config: SimConfig, lanes: int, chunk: int):
-    """Compiled (advance, start, refill) for one pool shape (memoised: no recompiles)."""
-    config = dataclasses.replace(config, record=False)
+    """Compiled (advance, start, refill) for one pool shape, keyed on what the programs depend on: not on
+    ``record`` (off here), ``checkpoint`` (none in a chunk), ``max_steps`` or ``segment`` (a chunk is one
+    segment), so that configurations differing only there share the programs."""
+    return _pool_programs(dataclasses.replace(config, record=False, max_steps=chunk, segment=chunk, checkpoint=0),
+                          lanes)
+
+
+@functools.lru_cache(maxsize=16)
+def _pool_programs(config: SimConfig, lanes: int):
+    """Compiled (advance, start, refill) for ``lanes`` lanes advancing ``config.max_steps`` steps (a chunk)
+    a call (memoised: no recompiles; built through :func:`_pool`)."""
     step = make_step(config)
-    chunk_config = dataclasses.replace(config, max_steps=chunk, segment=chunk, checkpoint=0)
 
     def advance(carry, stone, water):
-        return jax.vmap(lambda c: _scan(chunk_config, step, c, stone, water)[0])(carry)
+        return jax.vmap(lambda c: _scan(config, step, c, stone, water)[0])(carry)
 
     def start(throws, stone):
         state = jax.vmap(lambda t: initial_state(t, stone))(throws)
@@ -96,7 +103,9 @@ def _pool(config: SimConfig, lanes: int, chunk: int):
 
         return jax.tree_util.tree_map(pick, new, carry)
 
-    return jax.jit(advance), jax.jit(start), jax.jit(refill)
+    # start's lanes come out already split over the devices: a device_put of its single-device output
+    # would compile a slicing program per leaf shape (7 compiles, ~1 s on a first call)
+    return jax.jit(advance), jax.jit(start, out_shardings=_lane_sharding()), jax.jit(refill)
 
 
 MIN_LANES_PER_DEVICE = 8
@@ -195,8 +204,6 @@ def simulate_batch(
     lane_throw = np.where(np.arange(lanes) < n, np.arange(lanes), -1)  # throw index of each lane (-1: idle)
     lane_chunks = np.zeros(lanes, int)      # chunks run by the lane's current throw
     carry = start(_take(host_throws, np.maximum(lane_throw, 0)), rigid)
-    if sharding is not None:
-        carry = jax.device_put(carry, sharding)
     next_throw, finished, lane_steps = min(lanes, n), 0, 0
     final_state = final_tracker = None
     line = ProgressLine()

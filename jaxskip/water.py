@@ -655,6 +655,11 @@ def make_water_step(grid: WaterGrid, clamp_blocks: tuple = ()):
     return step
 
 
+def _water_program(grid: WaterGrid, steps: int):
+    """:func:`_water_runner`, keyed without ``grid.origin`` (the water step does not use where the grid is)."""
+    return _water_runner(grid if grid.origin == (0.0, 0.0) else dataclasses.replace(grid, origin=(0.0, 0.0)), steps)
+
+
 @functools.lru_cache(maxsize=32)
 def _water_runner(grid: WaterGrid, steps: int):
     """A compiled scan of ``steps`` water steps, one per (grid, steps): no recompiles on new data."""
@@ -684,7 +689,7 @@ def run_water(grid: WaterGrid, state: WaterState, steps: int, pressure=None):
     if not isinstance(p, jax.core.Tracer) and not bool(np.all(np.isfinite(np.asarray(p)))):
         raise ParameterError("pressure must be finite in every column [Pa]")
     # (asarray with the dtype makes it strongly typed: a weakly typed pressure would compile again)
-    return _water_runner(grid, steps)(state, p)
+    return _water_program(grid, steps)(state, p)
 
 
 def total_volume(grid: WaterGrid, state: WaterState):

@@ -112,16 +112,22 @@ class Box:
         """Names of the searched parameters, in the order of ``u``'s last axis."""
         return tuple(n for n, _, _ in self.searched)
 
+    @property
+    def layout(self) -> tuple:
+        """``(searched names, held names)``: the box without its numbers (what a compiled search program
+        depends on; :meth:`numbers` are its arguments)."""
+        return self.names, tuple(n for n, _ in self.held)
+
+    def numbers(self) -> tuple:
+        """``(low (P,), high (P,), held (H,))`` host float arrays, user units: the bounds of the searched
+        parameters and the held values, in :attr:`layout`'s order (see :func:`throw_in_box`)."""
+        return (np.array([lo for _, lo, _ in self.searched]), np.array([hi for _, _, hi in self.searched]),
+                np.array([v for _, v in self.held]))
+
     def to_throw(self, u) -> Throw:
         """Unconstrained ``u`` (..., P) -> a :class:`Throw` inside the box (SI), released 1 mm above the
-        water (``height``) heading along +x, as every search throws."""
-        values = dict(self.held)
-        for i, (name, lo, hi) in enumerate(self.searched):
-            values[name] = lo + (hi - lo) * jax.nn.sigmoid(u[..., i])
-        shape = jnp.shape(u)[:-1]
-        full = {k: jnp.broadcast_to(jnp.asarray(v, dtype=jnp.result_type(float)), shape) for k, v in values.items()}
-        return Throw(speed=full["speed"], tilt=jnp.deg2rad(full["tilt"]), attack=jnp.deg2rad(full["attack"]),
-                     spin=2.0 * jnp.pi * full["spin"], height=jnp.full(shape, 0.001), heading=jnp.zeros(shape))
+        water (``height``) heading along +x, as every search throws (:func:`throw_in_box` of this box)."""
+        return throw_in_box(self.layout, u, *self.numbers())
 
     def to_user(self, u) -> dict:
         """Unconstrained ``u`` (..., P) -> user-unit values of the searched parameters (host floats)."""
@@ -158,6 +164,24 @@ class Box:
         """The box as a JSON-ready dict, user units (m/s, deg, rev/s): ``{"searched": {name: [low, high]},
         "held": {name: value}}``."""
         return {"searched": {n: [lo, hi] for n, lo, hi in self.searched}, "held": dict(self.held)}
+
+
+def throw_in_box(layout: tuple, u, low, high, held) -> Throw:
+    """Unconstrained ``u`` (..., P) -> a :class:`Throw` (SI) inside a box given by its ``layout``
+    (:attr:`Box.layout`: the names of the P searched and H held parameters) and its numbers, user units
+    (m/s, deg, rev/s; :meth:`Box.numbers`): ``low``, ``high`` (P,) and ``held`` (H,), which may be traced.
+    Parameter i is ``low[i] + (high[i] - low[i]) * sigmoid(u[..., i])``; the throw is released 1 mm above
+    the water (``height``) heading along +x, as every search throws."""
+    names, held_names = layout
+    dtype = jnp.result_type(float)
+    low, high, held = (jnp.asarray(a, dtype=dtype) for a in (low, high, held))
+    values = {name: held[j] for j, name in enumerate(held_names)}
+    for i, name in enumerate(names):
+        values[name] = low[i] + (high[i] - low[i]) * jax.nn.sigmoid(u[..., i])
+    shape = jnp.shape(u)[:-1]
+    full = {k: jnp.broadcast_to(jnp.asarray(v, dtype=dtype), shape) for k, v in values.items()}
+    return Throw(speed=full["speed"], tilt=jnp.deg2rad(full["tilt"]), attack=jnp.deg2rad(full["attack"]),
+                 spin=2.0 * jnp.pi * full["spin"], height=jnp.full(shape, 0.001), heading=jnp.zeros(shape))
 
 
 def make_box(searched=None, held=None) -> Box:

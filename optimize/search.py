@@ -49,7 +49,7 @@ from jaxskip._progress import ProgressLine
 from jaxskip._checks import ParameterError, check_bool, check_int, check_positive, check_range
 from jaxskip.api import checked_config, checked_water, resolve_stone
 
-from .bounds import LIMITS, PARAMETERS, Box, make_box
+from .bounds import LIMITS, PARAMETERS, Box, make_box, throw_in_box
 from .objectives import WIDTH, make_objective
 
 
@@ -343,7 +343,8 @@ def gradient_search(box: Box | None = None, *, objective: str = "bounces", stone
     water = water_params(config.force.law) if water is None else checked_water(water)
     if horizon is not None:
         horizon = check_int("horizon", horizon, minimum=1, maximum=config.max_steps)
-    program_config = config if horizon is None else dataclasses.replace(config, max_steps=horizon)
+    # (the surrogate ignores record: configurations differing only there share one program)
+    program_config = dataclasses.replace(config, record=False, max_steps=config.max_steps if horizon is None else horizon)
 
     rng = np.random.default_rng(seed)
     points = _random_points(box, starts, rng)
@@ -351,12 +352,14 @@ def gradient_search(box: Box | None = None, *, objective: str = "bounces", stone
         for name, value in initial.items():
             points[name][0] = value
     u = float_array(box.from_user(points))
-    args = (u, float_leaves(rigid), float_leaves(water), float_array(width))
+    args = (u, tuple(float_array(a) for a in box.numbers()), float_leaves(rigid), float_leaves(water),
+            float_array(width))
     t_compile, misses = time.perf_counter(), _surrogate_program.cache_info().misses
-    value_and_grad, sharding = _surrogate_program(objective, program_config, box, _signature(args))
+    value_and_grad, sharding = _surrogate_program(objective, program_config, box.layout, _signature(args))
     # 0 when an earlier search compiled the same program
     t_compile = time.perf_counter() - t_compile if _surrogate_program.cache_info().misses > misses else 0.0
-    place = (lambda a: a) if sharding is None else (lambda a: jax.device_put(a, sharding))  # noqa: E731
+    # from the host: a device array's device_put to the sharding compiles a slicing program first
+    place = (lambda a: a) if sharding is None else (lambda a: jax.device_put(np.asarray(a), sharding))  # noqa: E731
     hyper = (float_array(learning_rate), float_array(clip))
     t_grad = 0.0
     state = _init_optimizer(u)
@@ -552,27 +555,29 @@ def _signature(args) -> tuple:
 
 
 @functools.lru_cache(maxsize=8)
-def _surrogate_program(objective: str, config: SimConfig, box: Box, signature: tuple):
-    """The compiled ``(u, stone, water, width) -> (values, gradients)`` of the surrogate for every
-    start (``u`` (starts, P) unconstrained; ``stone``, ``water``, ``width`` [m] are arguments, not
-    constants, so a search with other values, or a repeated search, reuses the program: compiling the
-    whole throw's reverse pass takes 15-40 s on a 2-core machine). Memoised on the static
-    configuration and ``signature`` (:func:`_signature`); returns ``(compiled, sharding of u)``.
+def _surrogate_program(objective: str, config: SimConfig, layout: tuple, signature: tuple):
+    """The compiled ``(u, box_numbers, stone, water, width) -> (values, gradients)`` of the surrogate for
+    every start (``u`` (starts, P) unconstrained; the box's numbers (:meth:`~optimize.bounds.Box.numbers`:
+    bounds and held values), ``stone``, ``water``, ``width`` [m] are arguments, not constants, so a
+    search with other values, or a repeated search, reuses the program: compiling the whole throw's
+    reverse pass takes 15-40 s on a 2-core machine). Memoised on the static configuration, the box's
+    ``layout`` (:attr:`~optimize.bounds.Box.layout`: which parameters are searched) and ``signature``
+    (:func:`_signature`); returns ``(compiled, sharding of u)``.
 
     The starts are split over the local devices (``import jaxskip`` makes one CPU device per core):
     each device runs ``lax.map`` over its share (shard_map; a map, not a vmap, so every rollout keeps
     its skip of finished segments)."""
     tree, leaves = signature
 
-    def value_and_grad(u, stone, water, width):
+    def value_and_grad(u, numbers, stone, water, width):
         f = make_objective(objective, config, stone, water, width)
-        return jax.lax.map(jax.value_and_grad(lambda ui: f(box.to_throw(ui))), u)
+        return jax.lax.map(jax.value_and_grad(lambda ui: f(throw_in_box(layout, ui, *numbers))), u)
 
     starts = leaves[0][0][0]
     sharding = _starts_sharding(starts)
     if sharding is not None:
         spec, rep = sharding.spec, jax.sharding.PartitionSpec()
-        value_and_grad = jax.shard_map(value_and_grad, mesh=sharding.mesh, in_specs=(spec, rep, rep, rep),
+        value_and_grad = jax.shard_map(value_and_grad, mesh=sharding.mesh, in_specs=(spec, rep, rep, rep, rep),
                                        out_specs=(spec, spec), check_vma=False)  # per-shard work, no collectives
     shapes = [jax.ShapeDtypeStruct(shape, np.dtype(dtype)) for shape, dtype in leaves]
     if sharding is not None:

@@ -8,8 +8,8 @@ import jax.numpy as jnp
 import numpy as np
 import pytest
 
-from jaxskip import OUTCOMES, SimConfig, Throw, WaterParams, rollout, simulate
-from jaxskip.api import _chunk_runner
+from jaxskip import OUTCOMES, SimConfig, Throw, WaterParams, rollout, simulate, simulate_batch
+from jaxskip.api import _chunk_program
 
 
 def stack(throws):
@@ -56,7 +56,7 @@ def test_new_throw_values_do_not_recompile(paper, water):
 def test_simulate_reuses_its_compiled_chunk():
     config = SimConfig(max_steps=2000)
     simulate(Throw.from_degrees(speed=6.0), config=config, chunk=500)
-    runner = _chunk_runner(config, 500)
+    runner = _chunk_program(config, 500)
     before = runner._cache_size()
     simulate(Throw.from_degrees(speed=7.5, tilt=25.0, spin=12.0), config=config, chunk=500)
     simulate(Throw.from_degrees(speed=4.0), stone="paper", mass=0.1, config=config, chunk=500)
@@ -66,6 +66,33 @@ def test_simulate_reuses_its_compiled_chunk():
     simulate(dataclasses.replace(Throw.from_degrees(), speed=jnp.asarray(9.0)), config=config, chunk=500)
     simulate(Throw.from_degrees(), water=WaterParams(1.0, 0.3, 1000.0, 9.81), config=config, chunk=500)
     assert runner._cache_size() == before == 1
+    # settings a chunk's program does not use (simulate always records, a chunk has no checkpoint, and
+    # runs its own number of steps) share it: each compiled a program of its own (~3 s) before
+    for other in (dataclasses.replace(config, record=False), dataclasses.replace(config, checkpoint=0),
+                  dataclasses.replace(config, max_steps=1500)):
+        assert _chunk_program(other, 500) is runner
+    # segments longer than the chunk are the chunk (a segment is a skip unit; the default is 50 steps)
+    assert _chunk_program(dataclasses.replace(config, segment=500), 500) is _chunk_program(
+        dataclasses.replace(config, segment=100_000), 500)
+    simulate(Throw.from_degrees(speed=6.0), config=dataclasses.replace(config, max_steps=1500, record=False), chunk=500)
+    assert runner._cache_size() == 1
+
+
+def test_simulate_batch_shares_its_pool_across_settings_it_does_not_use():
+    """record, checkpoint and max_steps do not change the pool's programs (a chunk is one segment without
+    checkpoints; max_steps only bounds the host loop): one compile serves them all (7-9 s each before)."""
+    from jaxskip.batch import _pool, _pool_programs
+
+    config = SimConfig()   # 20250 steps: these throws end long before either step count
+    throws = Throw.from_degrees(speed=[5.0, 6.0])
+    first = simulate_batch(throws, config=config, chunk=250)
+    misses = _pool_programs.cache_info().misses
+    for other in (dataclasses.replace(config, record=False), dataclasses.replace(config, checkpoint=0),
+                  dataclasses.replace(config, max_steps=20000), dataclasses.replace(config, segment=50)):
+        assert _pool(other, first.lanes, 250) is _pool(config, first.lanes, 250)
+        again = simulate_batch(throws, config=other, chunk=250)
+        np.testing.assert_array_equal(again.bounces, first.bounces)
+    assert _pool_programs.cache_info().misses == misses
 
 
 def test_first_simulate_in_a_fresh_process_compiles_one_program():
@@ -176,3 +203,26 @@ def test_a_stone_planing_for_the_whole_duration_ends_by_the_time_limit(paper, wa
     r = simulate(throw, paper, water=water, config=SimConfig(flight="step"))
     assert r.outcome == "time_limit", (r.outcome, r.final_time, r.steps)
     assert r.steps == math.ceil(SimConfig().duration / SimConfig().dt) + 1 <= SimConfig().max_steps
+
+
+def test_memoised_stone_and_water_follow_the_public_dicts(monkeypatch):
+    """simulate() memoises built-in stones and default water constants; a stone registered again under
+    its name in BUILTIN_STONES, or new default coefficients, are used, not the memo (simulate kept the old
+    stone, and kept c_lift 1.0 while simulate_batch used the new 0.5)."""
+    import functools
+
+    from jaxskip import forces, rigid_stone, stones
+
+    config = SimConfig(max_steps=400)
+    throw = Throw.from_degrees(speed=7.0)
+    before = simulate(throw, "disk", config=config)
+    bigger = (functools.partial(stones.disk, 0.06, 0.01), stones.STONE_DENSITY)
+    monkeypatch.setitem(stones.BUILTIN_STONES, "disk", bigger)
+    after = simulate(throw, "disk", config=config)
+    assert after.mass == pytest.approx(float(rigid_stone(stones.disk(0.06, 0.01), density=stones.STONE_DENSITY).mass))
+    assert after.mass > 2.0 * before.mass
+    monkeypatch.setitem(forces.DEFAULT_COEFFICIENTS, "bocquet", dict(c_lift=0.5, c_friction=0.3))
+    one = simulate(throw, config=config)
+    many = simulate_batch(Throw.from_degrees(speed=[7.0]), config=config)
+    assert float(one.water.c_lift) == 0.5
+    assert one.distance == pytest.approx(float(many.distance[0]), abs=1e-9)

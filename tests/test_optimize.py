@@ -1,6 +1,7 @@
 """The throw search: surrogate gradients, its agreement with the true count, bounds, the search itself."""
 
 import dataclasses
+import functools
 import math
 
 import jax
@@ -172,14 +173,14 @@ def test_gradient_search_improves_a_poor_throw(paper, water):
     # Gradient-norm monitoring: each iteration records every start's raw gradient norm, which is
     # the norm of the surrogate's gradient at that start's throw (recomputed here on its own).
     assert all(len(h["grad_norm"]) == 2 for h in r.history[:-1]) and "grad_norm" not in r.history[-1]
-    @jax.jit
-    def grads(u, water, width):
+    @functools.partial(jax.jit, static_argnames="box")
+    def grads(u, water, width, box):
         f = make_objective("bounces", config, paper, water, width)
         return jax.vmap(jax.grad(lambda ui: f(box.to_throw(ui))))(u)
 
-    def norms(result, water, width):
+    def norms(result, water, width, box=box):
         u = box.from_user({k: np.asarray(v) for k, v in result.history[0]["points"].items()})
-        return np.linalg.norm(np.asarray(grads(jnp.asarray(u), water, width)), axis=-1)
+        return np.linalg.norm(np.asarray(grads(jnp.asarray(u), water, width, box)), axis=-1)
 
     np.testing.assert_allclose(r.history[0]["grad_norm"], norms(r, water, 2e-4), rtol=1e-6)
     health = gradient_health(r)
@@ -194,6 +195,14 @@ def test_gradient_search_improves_a_poor_throw(paper, water):
     assert again.compile_time == 0.0 and again.gradient_evals == 2
     np.testing.assert_allclose(again.history[0]["grad_norm"], norms(again, water2, 4e-4), rtol=1e-6)
     assert not np.allclose(again.history[0]["grad_norm"], norms(again, water, 2e-4), rtol=1e-3)
+    # Another box (other bounds, other held values) and a config that differs only in record (which the
+    # surrogate ignores): the same program again (each compiled its own before), with the new box's numbers.
+    box2 = make_box({"speed": (3.0, 9.0), "attack": (2.0, 25.0)}, held={"tilt": 25.0, "spin": 12.0})
+    third = gradient_search(box2, config=dataclasses.replace(config, record=False), starts=2, iterations=1, seed=6,
+                            water=water)
+    assert third.compile_time == 0.0 and all(3.0 <= v <= 9.0 for v in third.history[0]["points"]["speed"])
+    np.testing.assert_allclose(third.history[0]["grad_norm"], norms(third, water, 2e-4, box2), rtol=1e-6)
+    assert not np.allclose(third.history[0]["grad_norm"], norms(third, water, 2e-4, box), rtol=1e-3)
 
 
 def test_polish_samples_near_the_best_throws_and_counts_exactly():
