@@ -304,6 +304,8 @@ def run_sweep_command(args) -> int:
         if args.out is None and (args.shard_index, args.num_shards) != (None, None):
             raise ParameterError("--shard-index/--num-shards need --out DIR: a shard's chunks are kept there "
                                  "for `jaxskip sweep merge`")
+        if args.shard_index is not None and args.num_shards is None:
+            raise ParameterError("--shard-index needs --num-shards N (the number of machines sharing the sweep)")
         # (an empty --tilts "" is refused, not taken for the default)
         tilts = _values("5:60:12" if args.tilts is None else args.tilts, "--tilts")
         attacks = _values(("20" if args.kind == "umin" else "0:60:13") if args.attacks is None else args.attacks,
@@ -312,7 +314,7 @@ def run_sweep_command(args) -> int:
 
     jax.config.update("jax_enable_x64", True)
     from optimize import make_spec, merge, plot_sweep, run_sweep
-    from optimize.sweep import bracket_digits
+    from optimize.sweep import _chunks, bracket_digits
 
     if args.kind == "merge":
         result = merge(args.folders, args.out)
@@ -326,8 +328,12 @@ def run_sweep_command(args) -> int:
         shards = 1 if args.num_shards is None else args.num_shards
         result = run_sweep(spec, args.out, shard_index=shard, num_shards=shards, progress=progress)
         if result is None:
+            n_chunks = len(_chunks(spec))
             msg = (f"shard {shard}/{shards} done; chunks in {args.out}; join the shards with "
                    "`jaxskip sweep merge FOLDER... --out DIR`")
+            if shard >= n_chunks:
+                msg = (f"shard {shard}/{shards} has no chunk to compute: the sweep has only {n_chunks} (for the "
+                       f"shards below {n_chunks}); a smaller --chunk-size cuts it into more")
             no_plot = "no picture: the sweep is not complete here (give --plot to the merge)"
             if args.json:
                 print_json({"complete": False, "out": args.out, **({"plot": None} if args.plot else {})})

@@ -32,8 +32,8 @@ and gives the same file as an uninterrupted one. With
 ``j % num_shards == shard_index``; :func:`merge` joins the chunk folders of all
 machines. Every local JAX device is used (the lanes of
 :func:`jaxskip.simulate_batch` are sharded over them). ``out_dir/spec.json`` pins the
-sweep a folder holds, its resolved simulation configuration included: a re-run with other
-settings there is refused.
+sweep a folder holds, its resolved simulation configuration (and an ``.obj`` stone's SHA-256)
+included: a re-run with other settings there is refused, and so are chunk files without it.
 """
 
 from __future__ import annotations
@@ -41,6 +41,7 @@ from __future__ import annotations
 import csv
 import dataclasses
 import json
+import hashlib
 import math
 import numbers
 import os
@@ -56,6 +57,7 @@ from jaxskip._checks import ParameterError, check_array, check_bool, check_int, 
 from jaxskip._docs import document_fields
 from jaxskip._progress import ProgressLine
 from jaxskip.settings import SIM_DEFAULTS, describe, simulation
+from jaxskip.stones import BUILTIN_STONES
 from jaxskip.throw import MAX_SPEED, MAX_SPIN_REVS
 
 from .bounds import check_interval
@@ -247,12 +249,17 @@ def make_spec(kind: str, *, tilts, attacks=(REFERENCE["attack"],), speed: float 
     sim = {**SIM_DEFAULTS, **sim, "stone": stone, "attitude": attitude}
     config, water, rigid = simulation(**sim)
     sim.update(stone=str(stone), max_steps=config.max_steps)
+    # an .obj stone is pinned by its contents too: a resume (or a shard) with another file at that path
+    # would mix two stones' results
+    mesh_file = {}
+    if str(stone) not in BUILTIN_STONES:
+        mesh_file["stone_sha256"] = hashlib.sha256(Path(stone).read_bytes()).hexdigest()
     if chunk_size is None:
         chunk_size = default_chunk_size(kind, len(tilts) if kind == "umin" else len(tilts) * len(attacks))
     chunk_size = check_int("chunk_size", chunk_size, minimum=1)
     return SweepSpec(kind=kind, tilts=tilts, attacks=attacks, speed=float(speed), speed_range=(lo, hi),
                      iterations=iterations, spin=float(spin), chunk_size=chunk_size, **sim,
-                     config={**describe(stone, config, water, rigid), "precision": _precision()})
+                     config={**describe(stone, config, water, rigid), **mesh_file, "precision": _precision()})
 
 
 def _precision() -> str:
@@ -328,6 +335,17 @@ def _write_atomic(path: Path, text: str) -> None:
 
     The file gets the usual mode, ``0o666`` less the umask, as ``open(path, "w")`` would give it (a
     temporary file from :func:`tempfile.mkstemp` would be private, 0600, whatever the umask)."""
+    tmp = _temp_beside(path, text)
+    try:
+        os.replace(tmp, path)
+    except BaseException:
+        if os.path.exists(tmp):
+            os.unlink(tmp)
+        raise
+
+
+def _temp_beside(path: Path, text: str) -> Path:
+    """A new temporary file beside ``path`` (creating ``path``'s folder if missing) holding ``text``, synced."""
     path.parent.mkdir(exist_ok=True)
     for _ in range(100):
         tmp = path.parent / f"{path.name}.{os.urandom(6).hex()}.tmp"
@@ -343,11 +361,26 @@ def _write_atomic(path: Path, text: str) -> None:
             f.write(text)
             f.flush()
             os.fsync(f.fileno())
-        os.replace(tmp, path)
     except BaseException:
+        os.unlink(tmp)
+        raise
+    return tmp
+
+
+def _write_new(path: Path, text: str) -> bool:
+    """Write ``text`` to ``path`` as :func:`_write_atomic` does, unless ``path`` exists: then nothing is written
+    and False returned (two runs starting at once: one of them creates it, the other reads it)."""
+    tmp = _temp_beside(path, text)
+    try:
+        os.link(tmp, path)  # atomic, and fails if path exists (a rename would replace it)
+    except FileExistsError:
+        return False
+    except OSError:  # pragma: no cover - a file system without hard links: a rename, as before
+        os.replace(tmp, path)
+    finally:
         if os.path.exists(tmp):
             os.unlink(tmp)
-        raise
+    return True
 
 
 #: What to do about a damaged chunk file of the folder being computed.
@@ -379,12 +412,22 @@ def run_sweep(spec: SweepSpec, out_dir=None, *, shard_index: int = 0, num_shards
     progress = check_bool("progress", progress)
     if out_dir is None and num_shards > 1:
         raise ParameterError("num_shards > 1 needs an out_dir: a shard's chunks are joined from the folders (merge)")
+    made_in = spec.config.get("precision") if isinstance(spec.config, dict) else None
+    if made_in != _precision():
+        raise ParameterError(f"spec was made in {made_in} and this process computes in {_precision()}: make the spec "
+                             "and run it in one precision (jax.config.update('jax_enable_x64', ...) before both), "
+                             "so that its spec.json says what its chunks hold")
     out = None if out_dir is None else _out_folder(out_dir)
     sim = _sim(spec)  # before anything is written
     if out is not None:
         _check_spec_file(out, spec)
     chunks = _chunks(spec)
     results, computed = {}, 0
+    if progress and out is not None:
+        kept = sum(1 for j in range(len(chunks)) if (out / f"chunk-{j:05d}.json").exists())
+        if kept:
+            print(f"  {kept} of {len(chunks)} chunks already in {str(out)!r} (kept, not recomputed)", file=sys.stderr,
+                  flush=True)
     for j, index in enumerate(chunks):
         path = None if out is None else out / f"chunk-{j:05d}.json"
         if path is not None and path.exists():
@@ -474,7 +517,7 @@ def _load_chunk(path: Path, spec: SweepSpec, j: int, index: np.ndarray, remedy: 
 
 #: What to do about a damaged spec.json: the chunks beside it cannot be checked without it.
 SPEC_REMEDY = ("it records which sweep the folder holds, so the chunk files beside it cannot be checked: "
-               "use a new folder (or delete this one)")
+               "use a new folder (or delete this whole folder)")
 
 
 def _read_spec(path: Path) -> dict:
@@ -499,30 +542,40 @@ RESUME_REMEDY = ("give those settings to resume it (a default that changed since
                  "max_steps, can be given explicitly: --max-steps N), or use a new folder")
 
 
+def _spec_difference(old: dict, new: dict) -> str:
+    """How a folder's spec.json ``old`` differs from ``new``: the keys, and what ``old`` has there."""
+    keys = sorted(k for k in old.keys() | new.keys() if old.get(k) != new.get(k))
+    # (what it holds: the resolved configuration's values, then the sweep's own that are not in it)
+    config = {k: v for k, v in sorted(old.get("config", {}).items()) if new.get("config", {}).get(k) != v}
+    held = [f"{k}={_shown(v)}" for k, v in config.items()]
+    held += [f"{k}={_shown(old.get(k))}" for k in keys if k != "config" and k not in config]
+    return f"its spec.json differs in {', '.join(keys)}: it has {', '.join(held)}"
+
+
 def _check_spec_file(out: Path, spec: SweepSpec, remedy: str = RESUME_REMEDY) -> None:
     """``out/spec.json`` pins the sweep a folder belongs to: resuming another sweep there is refused
     (``remedy``: what the message advises). Writes it (creating ``out``, not its parents:
-    :func:`_out_folder` checked them) if missing."""
+    :func:`_out_folder` checked them) if missing; chunk files without one are refused (they cannot be
+    checked against this sweep)."""
     path = out / "spec.json"
     text = json.dumps(spec.to_dict(), sort_keys=True, indent=1)
-    if path.exists():
-        old, new = _read_spec(path), json.loads(text)
-        if old != new:
-            was, now = (d.get("config", {}).get("precision") for d in (old, new))
-            if was != now and was in ("float64", "float32"):
-                raise ParameterError(f"out_dir {str(out)!r} holds a sweep computed in {was}, and this process computes "
-                                     f"in {now}: resume it in {was} (jax.config.update('jax_enable_x64', "
-                                     f"{was == 'float64'}) before any JAX work; the CLI computes in float64), "
-                                     "or use a new folder")
-            keys = sorted(k for k in old.keys() | new.keys() if old.get(k) != new.get(k))
-            # (what it holds: the resolved configuration's values, then the sweep's own that are not in it)
-            config = {k: v for k, v in sorted(old.get("config", {}).items()) if new.get("config", {}).get(k) != v}
-            held = [f"{k}={_shown(v)}" for k, v in config.items()]
-            held += [f"{k}={_shown(old.get(k))}" for k in keys if k != "config" and k not in config]
-            raise ParameterError(f"out_dir {str(out)!r} holds a different sweep (its spec.json differs in "
-                                 f"{', '.join(keys)}: it has {', '.join(held)}); {remedy}")
-    else:
-        _write_atomic(path, text)
+    if not path.exists():
+        if out.is_dir() and any(p.is_file() for p in out.glob("chunk-*.json")):
+            raise ParameterError(f"out_dir {str(out)!r} holds chunk files but no spec.json, so nothing says which sweep "
+                                 "they belong to: use a new folder (or delete this whole folder)")
+        if _write_new(path, text):
+            return
+        # (another run created it meanwhile: this one must be the same sweep)
+    old, new = _read_spec(path), json.loads(text)
+    _spec_from_json(path, old)  # a damaged spec.json ({}, text for tilts) is named as damaged, not as another sweep
+    if old != new:
+        was, now = (d.get("config", {}).get("precision") for d in (old, new))
+        if was != now and was in ("float64", "float32"):
+            raise ParameterError(f"out_dir {str(out)!r} holds a sweep computed in {was}, and this process computes "
+                                 f"in {now}: resume it in {was} (jax.config.update('jax_enable_x64', "
+                                 f"{was == 'float64'}) before any JAX work; the CLI computes in float64), "
+                                 "or use a new folder")
+        raise ParameterError(f"out_dir {str(out)!r} holds a different sweep ({_spec_difference(old, new)}); {remedy}")
 
 
 def _samples(name: str, values, what: str, missing: bool) -> list:
@@ -668,7 +721,7 @@ def _spec_from_json(path: Path, data: dict) -> SweepSpec:
     """The :class:`SweepSpec` a folder's spec.json (``data``, read from ``path``) describes."""
     names = {f.name for f in dataclasses.fields(SweepSpec)}
     if set(data) != names:
-        if set(data) < names and "config" not in data:
+        if set(data) == names - {"config"}:
             raise ParameterError(f"{str(path.parent)!r} holds a sweep of an older jaxskip (its spec.json lacks the "
                                  "simulation configuration): run it again")
         raise ParameterError(f"{str(path)!r} is damaged (its keys are not a sweep's); {SPEC_REMEDY}")
@@ -713,8 +766,10 @@ def merge(folders, out_dir) -> dict:
         if not (f / "spec.json").exists():
             raise ParameterError(f"{str(f)!r} is not a sweep folder (no spec.json)")
         specs.append(_read_spec(f / "spec.json"))
-    if any(s != specs[0] for s in specs):
-        raise ParameterError("the folders hold different sweeps (their spec.json differ)")
+    for f, s in zip(folders, specs):
+        if s != specs[0]:
+            raise ParameterError(f"the folders hold different sweeps: {str(f)!r} is not the sweep of "
+                                 f"{str(folders[0])!r} ({_spec_difference(s, specs[0])})")
     spec = _spec_from_json(folders[0] / "spec.json", specs[0])
     chunks = _chunks(spec)
     found = {}
@@ -731,8 +786,8 @@ def merge(folders, out_dir) -> dict:
     _check_spec_file(out, spec, "merge into a new folder (or into one of the shards' own)")
     for j, data in found.items():
         p = out / f"chunk-{j:05d}.json"
-        if p.exists():
-            _load_chunk(p, spec, j, chunks[j], "delete it and merge again")
+        if p.exists():  # what the folder holds is what its result says (a re-run there reads it)
+            found[j] = _load_chunk(p, spec, j, chunks[j], "delete it and merge again")
         else:
             _write_atomic(p, json.dumps(data, sort_keys=True))
     result = assemble(spec, [found[j] for j in range(len(chunks))])

@@ -190,6 +190,24 @@ def test_ctrl_c_ends_with_one_line_and_status_130(argv, said, tmp_path):
     assert p.stderr.strip().splitlines()[-1].startswith(said.replace("{tmp}", out)), p.stderr
 
 
+def test_ctrl_c_while_the_command_starts_ends_it(tmp_path):
+    """Ctrl-C in the first seconds, while `import jaxskip` loads JAX: the KeyboardInterrupt landed in XLA's
+    garbage-collection callback, which printed it as "Exception ignored" and went on: the sweep then ran to
+    its end and exited 0. The command's entry point (jaxskip_cli, outside the package) catches it first."""
+    import signal
+    import time
+
+    code = ("import sys, jaxskip_cli\nsys.argv = ['jaxskip', 'sweep', 'umin', '--tilts', '10:30:3', '--out', "
+            f"{str(tmp_path / 's')!r}]\nraise SystemExit(jaxskip_cli.main())\n")
+    p = subprocess.Popen([sys.executable, "-c", code], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                         cwd=ROOT)
+    time.sleep(0.5)  # the interpreter is up (~50 ms), JAX is still loading (2-3 s)
+    p.send_signal(signal.SIGINT)
+    out, err = p.communicate(timeout=300)
+    assert (p.returncode, err, out) == (130, "jaxskip: interrupted\n", "")
+    assert not (tmp_path / "s").exists()
+
+
 @pytest.mark.parametrize("argv, said", [
     (["throw", "--spedd", "3"], "unrecognized arguments: --spedd 3 (see 'jaxskip throw --help')"),
     (["throw", "extra"], "unrecognized arguments: extra (see 'jaxskip throw --help')"),

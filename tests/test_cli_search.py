@@ -394,3 +394,16 @@ def test_count_flags_show_the_ranges_that_are_checked(capsys):
              "--shard-index must be an integer in [0, 1]")):
         assert main(argv) == 2, argv
         assert refused in capsys.readouterr().err, argv
+
+
+def test_shard_flags_say_what_is_missing_or_idle(tmp_path, capsys):
+    """--shard-index without --num-shards said "--shard-index must be an integer in [0, 0], got 1"; a shard
+    beyond the sweep's chunks said it was done, with no chunk in its folder."""
+    argv = ["sweep", "domain", "--tilts", "20", "--attacks", "20", "--max-steps", "400"]
+    assert main(argv + ["--shard-index", "1", "--out", str(tmp_path / "a")]) == 2
+    assert capsys.readouterr().err == ("jaxskip: error: --shard-index needs --num-shards N (the number of machines "
+                                       "sharing the sweep)\n")
+    assert main(argv + ["--shard-index", "1", "--num-shards", "2", "--out", str(tmp_path / "b")]) == 0
+    out = capsys.readouterr().out
+    assert out.startswith("shard 1/2 has no chunk to compute: the sweep has only 1 (for the shards below 1)"), out
+    assert not list((tmp_path / "b").glob("chunk-*.json"))

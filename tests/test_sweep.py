@@ -362,7 +362,8 @@ def test_damaged_chunk_is_refused_naming_it_and_recomputed_once_deleted(tmp_path
 
 
 @pytest.mark.parametrize("text, problem", [("garbage", "not valid JSON: Expecting value"),
-                                           ("[1, 2]", "not a JSON object")], ids=["garbage", "not-an-object"])
+                                           ("[1, 2]", "not a JSON object"), ("{}", "its keys are not a sweep's")],
+                         ids=["garbage", "not-an-object", "empty-object"])
 def test_damaged_spec_file_is_refused_naming_it(tmp_path, text, problem):
     spec, _ = _finished_umin(tmp_path / "s")
     (tmp_path / "s" / "spec.json").write_text(text)
@@ -439,3 +440,92 @@ def test_plot_sweep_refuses_what_is_not_a_sweep_result(result, tmp_path):
     with pytest.raises(ParameterError, match="result must be a sweep result dict as returned by run_sweep/merge"):
         plot_sweep(result, tmp_path / "s.png")
     assert not (tmp_path / "s.png").exists()
+
+
+def test_an_obj_stone_is_pinned_by_its_contents(tmp_path):
+    """A sweep of an .obj stone resumed with another file at the same path (same mass, the mesh turned
+    90 deg) mixed two stones' chunks without a word: spec.json records the file's SHA-256 as well."""
+    import dataclasses
+    import hashlib
+
+    from jaxskip import irregular_pebble, write_obj
+
+    mesh, path = irregular_pebble(seed=1), tmp_path / "peb.obj"
+    write_obj(path, mesh)
+    settings = dict(tilts=[20.0], attacks=[20.0], speed=3.5, stone=str(path), attitude="free", max_steps=400)
+    spec = make_spec("domain", **settings)
+    assert spec.config["stone_sha256"] == hashlib.sha256(path.read_bytes()).hexdigest()
+    run_sweep(spec, tmp_path / "s")
+    turned = np.asarray(mesh.vertices)[:, [1, 0, 2]] * np.array([-1.0, 1.0, 1.0])  # 90 deg about z
+    write_obj(path, dataclasses.replace(mesh, vertices=turned))
+    again = make_spec("domain", **settings)
+    assert again.config["mass"] == pytest.approx(spec.config["mass"], rel=1e-12)
+    with pytest.raises(ParameterError, match=r"different sweep \(its spec.json differs in config: it has "
+                                             r"stone_sha256="):
+        run_sweep(again, tmp_path / "s")
+    assert "stone_sha256" not in small_domain().config  # a built-in stone is pinned by its name
+
+
+def test_chunks_without_their_spec_file_are_refused(tmp_path):
+    """With spec.json deleted (read as "delete this one" of the damaged-spec message) a run of another sweep
+    adopted the chunk files there and reported the first sweep's numbers as its own."""
+    spec = small_domain()
+    run_sweep(spec, tmp_path / "s")
+    (tmp_path / "s" / "spec.json").unlink()
+    other = make_spec("domain", tilts=[10.0, 30.0], attacks=[10.0, 40.0], speed=3.5, chunk_size=1, stone="disk")
+    for s in (spec, other):
+        with pytest.raises(ParameterError, match="holds chunk files but no spec.json, so nothing says which sweep"):
+            run_sweep(s, tmp_path / "s")
+    assert not (tmp_path / "s" / "spec.json").exists()
+
+
+def test_a_spec_is_run_in_the_precision_it_was_made_in(tmp_path):
+    """A spec made in float32 (spec.json says so) and run in a float64 process wrote float64 chunks under a
+    float32 label, which a float32 run then resumed."""
+    import jax
+
+    with jax.enable_x64(False):
+        spec32 = make_spec("domain", tilts=[20.0], attacks=[20.0], speed=3.5)
+    assert spec32.config["precision"] == "float32"
+    with pytest.raises(ParameterError, match="spec was made in float32 and this process computes in float64"):
+        run_sweep(spec32, tmp_path / "s")
+    assert not (tmp_path / "s").exists()
+
+
+def test_merge_reports_what_its_folder_holds(tmp_path):
+    """Merging into a folder that already holds a chunk keeps that chunk file, so the result must be
+    assembled from it: result.json said one thing and the chunk (read by a re-run there) another."""
+    import shutil
+
+    spec = small_domain()
+    for i in range(2):
+        run_sweep(spec, tmp_path / f"s{i}", shard_index=i, num_shards=2)
+    shutil.copytree(tmp_path / "s0", tmp_path / "x")
+    chunk = tmp_path / "x" / "chunk-00000.json"
+    data = json.loads(chunk.read_text())
+    data["bounces"] = [data["bounces"][0] + 5]  # as another machine's rounding might have it
+    chunk.write_text(json.dumps(data, sort_keys=True))
+    merged = merge([tmp_path / "s0", tmp_path / "s1"], tmp_path / "x")
+    assert merged["bounces"][0][0] == data["bounces"][0]
+    assert json.loads((tmp_path / "x" / "result.json").read_text())["bounces"] == merged["bounces"]
+    assert run_sweep(spec, tmp_path / "x")["bounces"] == merged["bounces"]  # a re-run there agrees
+
+
+def test_merge_names_the_folder_of_another_sweep(tmp_path):
+    spec = make_spec("domain", tilts=[20.0], attacks=[20.0], speed=3.5)
+    run_sweep(spec, tmp_path / "a")
+    run_sweep(make_spec("domain", tilts=[20.0], attacks=[20.0], speed=3.5, stone="disk"), tmp_path / "b")
+    with pytest.raises(ParameterError, match=r"the folders hold different sweeps: '.*b' is not the sweep of "
+                                             r"'.*a' \(its spec.json differs in config, stone: it has .*stone='disk'"):
+        merge([tmp_path / "a", tmp_path / "b"], tmp_path / "m")
+
+
+def test_spec_file_is_created_once_never_replaced(tmp_path):
+    """Two runs starting at once in one folder: spec.json is created exclusively (a rename replaced the other
+    run's), so the second reads the first's and is refused if it is another sweep."""
+    from optimize.sweep import _write_new
+
+    path = tmp_path / "spec.json"
+    assert _write_new(path, "first") and path.read_text() == "first"
+    assert not _write_new(path, "second") and path.read_text() == "first"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["spec.json"]  # no temporary file left
