@@ -22,10 +22,11 @@ METHODS = GRADIENT, PERTURBATION, GRID, RANDOM = ("gradient", "perturbation", "g
 ASCENTS = (GRADIENT, PERTURBATION)
 #: ``optimize`` flags that only some methods use (dest: those methods); given to another method: an error.
 METHOD_FLAGS = {"objective": (GRADIENT,), "starts": ASCENTS, "iterations": ASCENTS, "learning_rate": ASCENTS,
-                "polish": ASCENTS, "samples": (PERTURBATION,), "horizon": (GRADIENT,), "per_axis": (GRID,),
+                "polish": ASCENTS, "samples": (PERTURBATION,), "horizon": (GRADIENT,), "screen": (GRADIENT,),
+                "per_axis": (GRID,),
                 "throws": (RANDOM,), "seed": (GRADIENT, PERTURBATION, RANDOM)}
 #: Where the command line's default differs from the search function's (the others: the function's).
-METHOD_DEFAULTS = {"polish": 256, "per_axis": 6}
+METHOD_DEFAULTS = {"polish": 256, "per_axis": 6, "screen": 64}
 KINDS = ("umin", "domain")
 #: ``sweep`` flags by the kinds that use them (``merge`` uses none of them: it reads the shards' spec.json).
 SWEEP_FLAGS = {"tilts": KINDS, "attacks": KINDS, "speed": ("domain",), "speed_range": ("umin",),
@@ -58,7 +59,7 @@ def add_parsers(sub, ranges: bool = True) -> None:
 
         spans = {"starts": (1, MAX_STARTS), "iterations": (1, MAX_ITERATIONS), "polish": (0, MAX_THROWS),
                  "samples": (1, MAX_SAMPLES), "per_axis": (2, MAX_PER_AXIS), "throws": (1, MAX_THROWS),
-                 "bisections": (1, MAX_BISECTIONS)}
+                 "bisections": (1, MAX_BISECTIONS), "screen": (0, MAX_THROWS)}
         span = lambda name: f"[{_count(spans[name][0])}, {_count(spans[name][1])}]"  # noqa: E731
         points = _count(MAX_GRID_POINTS)
     else:  # (help texts that are never shown)
@@ -92,6 +93,9 @@ def add_parsers(sub, ranges: bool = True) -> None:
     _only(o, METHOD_FLAGS, "--polish", f"exact throws sampled near the best throws found, after the ascent, in "
           f"{span('polish')} (default {METHOD_DEFAULTS['polish']}; 0: none). The free stone's count is chaotic: "
           "sampling near the ascent's best usually finds more than the ascent", type=int, metavar="N")
+    _only(o, METHOD_FLAGS, "--screen", f"random exact throws simulated first, the best --starts of them the "
+          f"ascent's starts, in {span('screen')} (default {METHOD_DEFAULTS['screen']}; 0: random starts). A random "
+          "start often sinks at once, where the surrogate is flat and the ascent never moves", type=int, metavar="N")
     _only(o, METHOD_FLAGS, "--samples", f"antithetic pairs of exact throws per start and iteration, in "
           f"{span('samples')} (default 8)", type=int, metavar="N")
     _only(o, METHOD_FLAGS, "--horizon", "steps the surrogate is differentiated through, in [1, --max-steps] "

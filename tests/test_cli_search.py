@@ -37,6 +37,9 @@ ROOT = Path(__file__).resolve().parent.parent
     (["optimize", "--method", "random", "--objective", "distance"], "--objective is not used by --method random"),
     (["optimize", "--method", "grid", "--seed", "1"], "--seed is not used by --method grid"),
     (["optimize", "--throws", "10"], "--throws is not used by --method gradient (only by random)"),
+    (["optimize", "--screen", "3"], "--screen must be 0 or at least starts (8): the starts are the best of the "
+                                    "screened throws; got 3"),
+    (["optimize", "--method", "perturbation", "--screen", "64"], "--screen is not used by --method perturbation"),
     (["sweep", "umin", "--speed", "3"], "--speed is not used by sweep umin (only by domain)"),
     (["sweep", "domain", "--iterations", "3"], "--iterations is not used by sweep domain (only by umin)"),
     (["sweep", "merge", "a", "--out", "m", "--tilts", "5,6"], "--tilts is not used by sweep merge"),
@@ -221,7 +224,9 @@ def test_optimize_gradient_reports_gradient_norms(tmp_path, capsys, monkeypatch)
     r = json.loads(capsys.readouterr().out)
     h = r["gradient_norms"]
     assert h["of"] == 2 and h["starts"]["n"] == 2 and h["max"] >= h["median"] > 0.0
-    assert r["forward_throws"] == 2 * 2 + 8 and r["history"][-1]["phase"] == "polish"
+    # 64 screened throws (the default --screen), 2 starts counted twice, 8 polish throws
+    assert r["forward_throws"] == 64 + 2 * 2 + 8 and r["history"][-1]["phase"] == "polish"
+    assert len(r["history"][0]["screen"]["bounces"]) == 64
     assert r["history"][0]["grad_norm"] and len(r["history"][0]["grad_norm"]) == 2
 
 

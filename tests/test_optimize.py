@@ -203,6 +203,18 @@ def test_gradient_search_improves_a_poor_throw(paper, water):
     assert third.compile_time == 0.0 and all(3.0 <= v <= 9.0 for v in third.history[0]["points"]["speed"])
     np.testing.assert_allclose(third.history[0]["grad_norm"], norms(third, water, 2e-4, box2), rtol=1e-6)
     assert not np.allclose(third.history[0]["grad_norm"], norms(third, water, 2e-4, box), rtol=1e-3)
+    # screen=N: N random exact throws first, the best `starts` of them the starts (the same program again)
+    fourth = gradient_search(box, config=config, starts=2, iterations=1, screen=6, seed=3, water=water)
+    first = fourth.history[0]
+    screened = first["screen"]
+    assert len(screened["bounces"]) == 6 and all(len(v) == 6 for v in screened["points"].values())
+    assert sorted(first["bounces"]) == sorted(screened["bounces"])[-2:]   # the starts: the two best, recounted
+    chosen = np.argsort(screened["bounces"], kind="stable")[-2:]
+    assert sorted(first["points"]["speed"]) == sorted(np.asarray(screened["points"]["speed"])[chosen].tolist())
+    assert fourth.forward_throws == 6 + 2 * 2 and fourth.compile_time == 0.0
+    assert fourth.best_bounces >= max(screened["bounces"])
+    with pytest.raises(ParameterError, match=r"screen must be 0 or at least starts \(2\): .* got 1"):
+        gradient_search(box, config=config, starts=2, screen=1)
 
 
 def test_polish_samples_near_the_best_throws_and_counts_exactly():
