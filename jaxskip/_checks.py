@@ -34,6 +34,13 @@ def _as_float(name: str, value, valid: str = "") -> float:
 
     if isinstance(value, (str, bytes, bool, np.bool_)) or getattr(getattr(value, "dtype", None), "kind", "f") in NON_REAL_KINDS + "O":
         raise ParameterError(f"{name} must be a real number{(' ' + valid) if valid else ''}, got {value!r}")
+    import jax
+
+    if isinstance(value, jax.core.Tracer):  # (float() of it raised a TypeError read as "not a real number")
+        raise ParameterError(f"{name} is a traced value (inside jit, vmap or grad), and this checked constructor "
+                             "needs a concrete number: trace a pytree's field instead (e.g. dataclasses.replace("
+                             "water, c_lift=x) of a checked WaterParams, or a Throw(...) built directly); settings "
+                             "such as SimConfig's are static and cannot be traced")
     try:
         value = float(value)  # numpy scalars, 0-d arrays; an int beyond the float range overflows
     except OverflowError:

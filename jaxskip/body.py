@@ -22,7 +22,17 @@ from .mesh import TriMesh, mass_properties, validate_mesh
 @jax.tree_util.register_dataclass
 @dataclasses.dataclass(frozen=True)
 class RigidStone:
-    """A rigid stone: body-frame geometry (origin at the centre of mass) and mass properties."""
+    """A rigid stone: body-frame geometry (origin at the centre of mass) and mass properties.
+
+    Its fields are independent pytree leaves, some derived from others by :func:`rigid_stone`
+    (``inv_inertia`` from ``inertia``; ``normals``, ``areas``, ``radius`` from ``triangles``;
+    ``inertia`` from the mass and the mesh). A gradient with respect to a field is therefore a
+    *partial* derivative with the other fields held: ``grad.inertia`` alone is not d/d(inertia) of a
+    consistent stone (which also moves ``inv_inertia``: measured on one throw, +35.8 against -2.7 with
+    both), and ``grad.mass`` keeps the inertia (a weighted stone). For the derivative along a
+    consistent change, combine the fields' gradients by the chain rule, e.g. for a scaled inertia
+    ``I -> kI``: ``sum(g.inertia * I) - sum(g.inv_inertia * inv_I)``.
+    """
 
     triangles: jax.Array
     """(F, 3, 3) triangle vertices in the body frame, relative to the centre of mass [m]."""

@@ -411,6 +411,14 @@ def initial_state(throw: Throw, stone: RigidStone) -> StoneState:
     return StoneState(position, velocity, q, throw.spin * normal, 0.0 * throw.speed)
 
 
+def initial_carry(config: SimConfig, throw: Throw, stone: RigidStone) -> tuple[StoneState, Tracker]:
+    """The carry :func:`make_step`'s step starts from: the throw's release state
+    (:func:`initial_state`) and an empty tracker (alive, no contact yet, ``config.max_contacts`` rows).
+    Pure; one throw (``vmap`` for batches)."""
+    state = initial_state(throw, stone)
+    return state, _new_tracker(config.max_contacts, state.position.dtype)
+
+
 def _new_tracker(k: int, dtype) -> Tracker:
     counters = jnp.zeros(6, jnp.int32).at[_ALIVE].set(1)
     return Tracker(counters=counters, leave=jnp.full(5, jnp.nan, dtype), log=jnp.full((k, 10), jnp.nan, dtype))
@@ -710,7 +718,12 @@ def _step_length(config, stone, water, state: StoneState, gap, wet, R, L):
 def make_step(config: SimConfig, surface=flat_surface, push: bool = False):
     """Return the pure step ``step(carry, stone, water) -> (carry, record)``.
 
-    ``carry = (StoneState, Tracker)``. ``surface(x, y) -> h`` is the water height
+    ``carry = (StoneState, Tracker)``: start it from :func:`initial_carry` (a tracker whose ``alive``
+    counter is 0 makes every step a no-op), scan the step with ``jax.lax.scan`` (``record`` is None
+    unless ``config.record``), and call ``tracker.finish()`` at the end for the outcome, as
+    :func:`rollout` does (which also skips finished segments and checkpoints the steps; a plain scan
+    of this step equals it). Inside ``jax.shard_map`` give ``check_vma=False``: the step's branches
+    mix device-varying and constant values. ``surface(x, y) -> h`` is the water height
     [m] (flat water by default; the height-field model supplies its own).
     ``push=True``: the step returns ``(carry, record, (forces, centroids))`` as well, the
     per-triangle water forces (F, 3) [N] on the stone at the start of the step and their
@@ -890,6 +903,15 @@ def _check_rollout_args(config, throw, stone, water) -> None:
     if any(shape != () for shape in shapes.values()):
         raise ParameterError(f"rollout takes one throw (every field of shape ()), got shapes {shapes}: jax.vmap "
                              "it over a batch, or use jaxskip.simulate_batch")
+    # a batched stone or water (a forgotten in_axes) met a broadcasting error deep inside the step
+    water_shapes = {f.name: tuple(np.shape(getattr(water, f.name))) for f in dataclasses.fields(water)}
+    if any(shape != () for shape in water_shapes.values()):
+        raise ParameterError(f"rollout takes one water (every WaterParams field of shape ()), got shapes "
+                             f"{water_shapes}: jax.vmap over a batch of them")
+    tri = tuple(np.shape(stone.triangles))
+    if len(tri) != 3 or tri[1:] != (3, 3) or np.shape(stone.mass) != ():
+        raise ParameterError(f"rollout takes one stone (triangles (F, 3, 3), mass ()), got triangles {tri} and mass "
+                             f"{tuple(np.shape(stone.mass))}: jax.vmap over a batch of stones")
 
 
 def rollout(config: SimConfig, throw: Throw, stone: RigidStone, water: WaterParams, surface=flat_surface):

@@ -333,3 +333,28 @@ def test_rk4_in_the_water_converges_to_the_same_first_contact_as_euler(paper, wa
     rk4, fine = first_contact("rk4", 2.5e-4), first_contact("euler", 5e-5)
     assert abs(rk4[0] / fine[0] - 1) < 0.02 and abs(rk4[2] / fine[2] - 1) < 0.02, (rk4, fine)
     assert abs(np.degrees(rk4[1] - fine[1])) < 0.5 and abs(np.degrees(rk4[3] - fine[3])) < 2.0, (rk4, fine)
+
+
+def test_a_plain_scan_of_make_step_from_initial_carry_equals_rollout():
+    """The public pieces a user composes into their own scan (session 26: a tracker built from the
+    docstring had alive = 0 and every step did nothing, without an error)."""
+    import jax
+    import numpy as np
+
+    from jaxskip import SimConfig, Throw, initial_carry, make_step, paper_stone, rigid_stone, rollout, water_params
+
+    config = SimConfig(record=False, max_steps=600)
+    stone, water, throw = rigid_stone(paper_stone(), density=2650.0), water_params(), Throw.from_degrees()
+    step = make_step(config)
+
+    @jax.jit
+    def mine(throw):
+        carry, _ = jax.lax.scan(lambda c, _: step(c, stone, water), initial_carry(config, throw, stone), None,
+                                length=config.max_steps)
+        return carry[0], carry[1].finish()
+
+    state, tracker = mine(throw)
+    ref_state, ref_tracker, _ = rollout(config, throw, stone, water)
+    assert int(tracker.bounces) == int(ref_tracker.bounces) >= 1
+    for a, b in zip(jax.tree_util.tree_leaves((state, tracker)), jax.tree_util.tree_leaves((ref_state, ref_tracker))):
+        np.testing.assert_array_equal(np.asarray(a), np.asarray(b))

@@ -547,6 +547,36 @@ def test_review_fixes_session_25(index):
         call()
 
 
+def test_traced_values_at_checked_constructors_and_batched_stones_in_rollout_are_named():
+    """Found by a review of jaxskip inside user JAX code (session 26): a traced c_lift, density or dt was
+    refused as "must be a real number, got GradTracer(...)", and a batched stone or water given to rollout
+    without vmap met a broadcasting error deep inside the step."""
+    import dataclasses
+
+    import jax
+    import jax.numpy as jnp
+
+    from jaxskip import paper_stone, rollout
+
+    stone, water = rigid_stone(paper_stone(), density=2650.0), water_params()
+    config, throw = SimConfig(record=False, max_steps=50), Throw.from_degrees()
+    traced = "is a traced value \\(inside jit, vmap or grad\\), and this checked constructor needs a concrete number"
+    calls = {"c_lift": lambda x: water_params(c_lift=x), "density": lambda x: rigid_stone(paper_stone(), density=x),
+             "dt": lambda x: SimConfig(dt=x)}
+    for name, make in calls.items():
+        with pytest.raises(ParameterError, match=f"{name} {traced}"):
+            jax.grad(lambda x: jnp.sum(jnp.asarray(jax.tree_util.tree_leaves(make(x))[0])))(1e-4)
+    # the way that works: a field of a checked pytree, traced
+    g = jax.grad(lambda cl: rollout(config, throw, stone, dataclasses.replace(water, c_lift=cl))[0].position[0])(1.0)
+    assert bool(jnp.isfinite(g))
+    two = lambda tree: jax.tree_util.tree_map(lambda a: jnp.stack([a, a]), tree)  # noqa: E731
+    with pytest.raises(ParameterError, match=r"rollout takes one stone \(triangles \(F, 3, 3\), mass \(\)\), got "
+                                             r"triangles \(2, 38, 3, 3\) and mass \(2,\): jax.vmap"):
+        rollout(config, throw, two(stone), water)
+    with pytest.raises(ParameterError, match=r"rollout takes one water .* got shapes \{'c_lift': \(2,\)"):
+        rollout(config, throw, stone, two(water))
+
+
 def test_session_25_values_of_other_types_are_stored_as_python_numbers():
     """SimConfig kept NumPy integers (its result's to_dict() was not JSON-ready); simulate_batch ran a float16
     throw into a type error inside the pool (and an integer one into a compile of its own); a built-in stone
