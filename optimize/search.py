@@ -298,8 +298,9 @@ def gradient_search(box: Box | None = None, *, objective: str = "bounces", stone
     for the distance objective) become the starts (0, the default: the starts are random draws). A
     random start often lies where the stone sinks at once and the surrogate is flat (gradient norms
     down to 1e-12: it never moves); screening spends a few exact throws to start where the stone
-    skips. Measured on the human box with ``polish=256``, 8 seeds: ``screen=64`` raised the best count
-    from a mean of 34 to 49 (the ascent's own best from 22 to 36) for 64 more exact throws.
+    skips. Measured on the human box with ``polish=256``, seeds 0-7: ``screen=64`` raised the best count
+    from a mean of 35 to 58 (the ascent's own best from 25 to 36; best of the eight 60 against 90) for
+    64 more exact throws.
     The screen's throws are listed in the first history entry under ``"screen"`` (``"points"`` and
     ``"bounces"``, user units) and counted in ``forward_throws``.
     ``polish``: exact throws (an integer in [0, 10^8], :data:`MAX_THROWS`) spent after the ascent by
