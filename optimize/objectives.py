@@ -18,7 +18,7 @@ adds :math:`\sigma((g_{peak} - c)/w) < 1`, and the stone that sinks adds nothing
 count. The cap matters: a spinning stone's lowest vertex bobs by a millimetre or so as it wobbles,
 and as it comes down to its next contact it dips below :math:`c` and rises again in the air; without
 the cap each such flight added up to ~1 (measured: 13.1 against the true 12 over a default-like throw,
-now 12.0). :math:`\tilde N` is continuous in the throw (a new hop
+now 12.1). :math:`\tilde N` is continuous in the throw (a new hop
 grows in from 0 as its height grows), so its gradient carries information
 where the true count is flat.
 
