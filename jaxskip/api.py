@@ -31,7 +31,7 @@ from .simulate import (_ALIVE, OUTCOMES, STEP_LIMIT, SimConfig, StoneState, Trac
                        make_step, warn_if_coarse)
 from .stones import BUILTIN_STONES, load_stone
 from .throw import Throw
-from .water import WaterGrid, total_volume
+from .water import WaterGrid, placeless, total_volume
 
 
 @document_fields
@@ -255,7 +255,7 @@ def _chunk_program(config: SimConfig, chunk: int, grid=None):
     key = dataclasses.replace(config, record=True, max_steps=chunk, segment=min(config.segment, chunk), checkpoint=0)
     if grid is None:
         return _chunk_runner(key)
-    return _chunk_runner(key, grid if grid.origin == (0.0, 0.0) else dataclasses.replace(grid, origin=(0.0, 0.0)))
+    return _chunk_runner(key, placeless(grid))
 
 
 @functools.lru_cache(maxsize=32)
@@ -326,6 +326,7 @@ def _default_water(law: str, x64: bool) -> WaterParams:
 
 @functools.lru_cache(maxsize=8)
 def _water_of(law: str, coefficients: tuple, x64: bool) -> WaterParams:
+    """``water_params(law)``, memoised; ``coefficients`` and ``x64`` only key the memo."""
     return water_params(law)
 
 

@@ -60,7 +60,7 @@ import numpy as np
 from ._docs import document_fields
 from .body import RigidStone
 from .forces import WaterParams
-from .simulate import SimConfig, _new_tracker, _scan, initial_state, make_step
+from .simulate import SimConfig, _scan, initial_carry, make_step
 from ._checks import ParameterError, check_bool, check_int, check_range
 from .throw import Throw
 from .water import (WaterGrid, WaterState, _check_grid, deposit, height_at, make_water_step, still_water,
@@ -331,8 +331,8 @@ def rollout_coupled(config: SimConfig, grid: WaterGrid, throw: Throw, stone: Rig
     _check_config(config)
     _check_grid(grid)
     check_shared_constants(grid, water)
-    state = initial_state(throw, stone)
-    carry = (state, _new_tracker(config.max_contacts, state.position.dtype), initial_field(grid, state.position))
+    state, tracker = initial_carry(config, throw, stone)
+    carry = (state, tracker, initial_field(grid, state.position))
     step = make_coupled_step(config, grid, water_dt, two_way)
     (state, tr, field), recs = _scan(config, step, carry, stone, water)
     return state, tr.finish(), (recs if config.record else None), field

@@ -943,10 +943,8 @@ def rollout(config: SimConfig, throw: Throw, stone: RigidStone, water: WaterPara
     (True, 'sank')
     """
     _check_rollout_args(config, throw, stone, water)
-    state = initial_state(throw, stone)
-    carry = (state, _new_tracker(config.max_contacts, state.position.dtype))
     step = make_step(config, surface)
-    (state, tr), recs = _scan(config, step, carry, stone, water)
+    (state, tr), recs = _scan(config, step, initial_carry(config, throw, stone), stone, water)
     return state, tr.finish(), (recs if config.record else None)
 
 

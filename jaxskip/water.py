@@ -655,9 +655,15 @@ def make_water_step(grid: WaterGrid, clamp_blocks: tuple = ()):
     return step
 
 
+def placeless(grid: WaterGrid) -> WaterGrid:
+    """``grid`` with its ``origin`` at (0, 0): the key of a compiled water (or coupled) program, whose step
+    does not use where the grid is (the same grid object when it is there already)."""
+    return grid if grid.origin == (0.0, 0.0) else dataclasses.replace(grid, origin=(0.0, 0.0))
+
+
 def _water_program(grid: WaterGrid, steps: int):
-    """:func:`_water_runner`, keyed without ``grid.origin`` (the water step does not use where the grid is)."""
-    return _water_runner(grid if grid.origin == (0.0, 0.0) else dataclasses.replace(grid, origin=(0.0, 0.0)), steps)
+    """:func:`_water_runner`, keyed without ``grid.origin`` (:func:`placeless`)."""
+    return _water_runner(placeless(grid), steps)
 
 
 @functools.lru_cache(maxsize=32)

@@ -44,7 +44,7 @@ import jax.numpy as jnp
 
 from jaxskip import RigidStone, SimConfig, Throw, WaterParams
 from jaxskip._checks import ParameterError, check_positive
-from jaxskip.simulate import _new_tracker, _scan, initial_state, make_step, rollout
+from jaxskip.simulate import _scan, initial_carry, initial_state, make_step, rollout
 
 #: Default clearance level [m]: the tracker's ``SimConfig.bounce_clearance``.
 CLEARANCE = 1e-3
@@ -108,9 +108,9 @@ def soft_bounce_rollout(config: SimConfig, throw: Throw, stone: RigidStone, wate
         budget = jnp.where(live, jnp.where(rec.wetted_area > 0.0, 1.0, budget - counted), budget)
         return (state1, tr1, jnp.where(live, s, s_prev), budget, total + counted), None
 
-    state = initial_state(throw, stone)
+    state, tracker = initial_carry(config, throw, stone)
     one = jnp.ones((), state.position.dtype)
-    carry = (state, _new_tracker(config.max_contacts, state.position.dtype), one, 0.0 * one, 0.0 * one)
+    carry = (state, tracker, one, 0.0 * one, 0.0 * one)
     (state, tr, _s, _budget, total), _ = _scan(dataclasses.replace(config, record=False), step, carry, stone, water)
     return state, tr, total
 

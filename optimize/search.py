@@ -292,7 +292,7 @@ def gradient_search(box: Box | None = None, *, objective: str = "bounces", stone
     the surrogate's sharpness knob (:mod:`optimize.objectives`).
     ``initial``: a throw to start from, {parameter: value} in user units for every searched
     parameter (inside the box), and no other (a held parameter is refused, not dropped); it
-    replaces the first random start. ``seed``: an integer >= 0 (the random starts).
+    replaces the first start (the best screened throw with ``screen``). ``seed``: an integer >= 0 (the random starts).
     ``screen``: exact throws (0, or an integer in [``starts``, 10^8]) drawn at random in the box (seeded)
     and simulated before the ascent; the ``starts`` best of them (most true bounces; longest distance
     for the distance objective) become the starts (0, the default: the starts are random draws). A

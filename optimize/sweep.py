@@ -40,8 +40,8 @@ from __future__ import annotations
 
 import csv
 import dataclasses
-import json
 import hashlib
+import json
 import math
 import numbers
 import os
