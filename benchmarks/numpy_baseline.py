@@ -43,8 +43,9 @@ import dataclasses
 import numpy as np
 
 # Outcome and phase codes: the same values as jaxskip.simulate.
-RUNNING, SANK, STOPPED, FLIPPED, TIME_LIMIT, STEP_LIMIT = 0, 1, 2, 3, 4, 5
-OUTCOMES = ("running", "sank", "stopped", "flipped", "time_limit", "step_limit")
+RUNNING, SANK, STOPPED, FLIPPED, TIME_LIMIT, STEP_LIMIT, DIVERGED = 0, 1, 2, 3, 4, 5, 6
+OUTCOMES = ("running", "sank", "stopped", "flipped", "time_limit", "step_limit", "diverged")
+DIVERGED_SPEED = 1000.0  # m/s: jaxskip.simulate.DIVERGED_SPEED
 AIR, WET, LEAVING = 0, 1, 2
 # Free-rotation substeps and the axisymmetry tolerance of a jump's rotation cap: as jaxskip.simulate.
 FREE_ROTATION_SUBSTEPS, ASYMMETRY_TOLERANCE, LONGEST_CAP = 2, 1e-6, 1e3
@@ -405,10 +406,12 @@ def step(state: dict, tr: dict, stone: NpStone, water: NpWater, config) -> tuple
     phase = np.where(begin | rewet, WET, np.where(leave, LEAVING, np.where(bounce, AIR, phase0)))
 
     speed = np.sqrt(_sum3(v * v) + 1e-30)
-    outcome = np.where(top < 0.0, SANK,
-                       np.where(R[:, 2, 2] < 0.0, FLIPPED,
-                                np.where(wet & (speed < config.stop_speed), STOPPED,
-                                         np.where(t >= config.duration, TIME_LIMIT, RUNNING))))
+    diverged = ~(np.isfinite(top) & (speed <= DIVERGED_SPEED) & np.all(np.isfinite(w), axis=-1))
+    outcome = np.where(diverged, DIVERGED,
+                       np.where(top < 0.0, SANK,
+                                np.where(R[:, 2, 2] < 0.0, FLIPPED,
+                                         np.where(wet & (speed < config.stop_speed), STOPPED,
+                                                  np.where(t >= config.duration, TIME_LIMIT, RUNNING)))))
     outcome = np.where(alive0, outcome, tr["outcome"])
     alive = alive0 & (outcome == RUNNING)
     tr1 = {"alive": alive, "outcome": outcome.astype(np.int32), "phase": phase.astype(np.int32),

@@ -14,6 +14,7 @@ import math
 import os
 import sys
 import time
+import warnings
 
 import jax
 import jax.numpy as jnp
@@ -27,8 +28,8 @@ from .body import DENSITY_RANGE, RigidStone, rigid_stone
 from .forces import DEFAULT_COEFFICIENTS, WaterParams, water_params
 from .mesh import TriMesh
 from .coupled import check_shared_constants, default_water_dt, initial_field, make_coupled_step
-from .simulate import (_ALIVE, OUTCOMES, STEP_LIMIT, SimConfig, StoneState, Tracker, _new_tracker, _scan, initial_state,
-                       make_step, warn_if_coarse)
+from .simulate import (_ALIVE, DIVERGED, OUTCOMES, STEP_LIMIT, SimConfig, StoneState, Tracker, _new_tracker, _scan,
+                       diverged_message, initial_state, make_step, warn_if_coarse, warn_if_unstable)
 from .stones import BUILTIN_STONES, load_stone
 from .throw import Throw
 from .water import WaterGrid, placeless, total_volume
@@ -111,7 +112,8 @@ class ThrowResult:
     distance: float
     """Horizontal distance from release to where the stone ended [m]."""
     outcome: str
-    """One of ``sank``, ``stopped``, ``flipped``, ``time_limit``, ``step_limit``."""
+    """One of ``sank``, ``stopped``, ``flipped``, ``time_limit``, ``step_limit``, ``diverged`` (the
+    integration failed: a warning says so; see :data:`jaxskip.simulate.OUTCOMES`)."""
     final_time: float
     """Simulated time at the end [s]."""
     steps: int
@@ -374,7 +376,8 @@ def simulate(
     -------
     :class:`ThrowResult`: ``bounces``, ``contacts`` (each :class:`Contact`: start and end time [s],
     position along the heading [m], tilt in and out [rad]), ``distance`` [m], ``outcome`` (``sank``,
-    ``stopped``, ``flipped``, ``time_limit`` or ``step_limit``), ``final_time`` [s], the per-step
+    ``stopped``, ``flipped``, ``time_limit``, ``step_limit`` or ``diverged``: the integration failed,
+    with a ``RuntimeWarning``), ``final_time`` [s], the per-step
     ``trajectory`` (SI arrays), the resolved throw, config, stone and water; ``help(ThrowResult)``
     lists every field with its units.
 
@@ -400,6 +403,7 @@ def simulate(
     water = _default_water(config.force.law, x64) if water is None else checked_water(water)
     throw = float_leaves(throw)  # (Python floats, jnp.asarray(9.0): weak types would compile the chunk again)
     rigid, name = resolve_stone(stone, mass=mass, density=density)
+    warn_if_unstable(config, rigid, water, throw.speed, throw.height, stacklevel=3)
 
     if water_field is not None:
         if not isinstance(water_field, WaterGrid):
@@ -463,6 +467,9 @@ def simulate(
             traj[k] = np.concatenate([traj[k], traj[k][-1:]])
     outcome = OUTCOMES[STEP_LIMIT] if tr.alive else OUTCOMES[int(tr.outcome)]
     end_time = float(state.time)
+    if outcome == OUTCOMES[DIVERGED]:
+        warnings.warn(diverged_message(f"the throw diverged at t = {end_time:.4g} s", config), RuntimeWarning,
+                      stacklevel=2)
     k = min(int(tr.contacts), config.max_contacts)
     heading = float(throw.heading)
     along = np.array([math.cos(heading), math.sin(heading)])  # release is at x = y = 0

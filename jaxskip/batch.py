@@ -22,6 +22,7 @@ import dataclasses
 import functools
 import math
 import time
+import warnings
 
 import jax
 import jax.numpy as jnp
@@ -32,7 +33,8 @@ from ._progress import ProgressLine
 from ._checks import ParameterError, check_bool, check_int
 from .api import checked_config, checked_water, resolve_stone
 from .forces import WaterParams, water_params
-from .simulate import OUTCOMES, SimConfig, StoneState, Tracker, _new_tracker, _scan, initial_state, make_step
+from .simulate import (DIVERGED, OUTCOMES, SimConfig, StoneState, Tracker, _new_tracker, _scan, diverged_message,
+                       initial_state, make_step, warn_if_unstable)
 from .throw import Throw
 
 
@@ -70,7 +72,8 @@ class BatchResult:
 
     @property
     def outcome_names(self) -> np.ndarray:
-        """(N,) outcome strings (``sank``, ``stopped``, ``flipped``, ``time_limit``, ``step_limit``)."""
+        """(N,) outcome strings (``sank``, ``stopped``, ``flipped``, ``time_limit``, ``step_limit``,
+        ``diverged``: see :data:`jaxskip.simulate.OUTCOMES`)."""
         return np.asarray(OUTCOMES, dtype=object)[self.outcome]
 
 
@@ -191,6 +194,7 @@ def simulate_batch(
         raise ParameterError(f"chunk must divide config.max_steps ({config.max_steps}); got {chunk}")
     water = water_params(config.force.law) if water is None else checked_water(water)
     rigid, _ = resolve_stone(stone, mass=mass, density=density)
+    warn_if_unstable(config, rigid, water, throws.speed, throws.height, stacklevel=3)
 
     n = throws.shape[0]
     lanes = max(min(lanes, n), MIN_LANES_PER_DEVICE * n_devices)
@@ -242,6 +246,11 @@ def simulate_batch(
 
     final_tracker = final_tracker.finish()
     outcome = final_tracker.outcome
+    failed = np.flatnonzero(outcome == DIVERGED)
+    if failed.size:
+        warnings.warn(diverged_message(f"{failed.size} of {n} throws diverged (indices {failed[:5].tolist()}"
+                                       + (", ..." if failed.size > 5 else "") + ")", config), RuntimeWarning,
+                      stacklevel=2)
     # Horizontal distance from release: ``initial_state`` releases every throw above x = y = 0.
     distance = np.hypot(final_state.position[:, 0], final_state.position[:, 1])
     return BatchResult(

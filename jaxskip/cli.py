@@ -26,6 +26,7 @@ from .throw import MAX_HEADING, MAX_HEIGHT, MAX_SPEED, MAX_SPIN_REVS
 from .settings import SIM_DEFAULTS, describe, environment, simulation  # noqa: F401 (shared with cli_search)
 
 EXIT_USAGE = 2
+EXIT_FAILED = 1  # valid input, failed run (a throw that diverged)
 PICTURES = (".png", ".pdf", ".svg")
 
 # A value that starts like a negative number: any notation Python's float() reads (e-notation, -inf, -nan),
@@ -288,6 +289,11 @@ def _throw(args) -> int:
     chunk = 40 if (args.animate or args.water_plot) else 1000
     result = simulate(throw, stone, water=water, config=config, progress=progress, water_field=field, chunk=chunk)
     result = dataclasses.replace(result, stone_name=_stone_label(values["stone"]))
+    if result.outcome == "diverged":
+        # (its warning said why; a picture or a file of a failed integration would be read as a result)
+        print(f"jaxskip: error: the throw diverged at t = {result.final_time:.4g} s with --dt {config.dt:g}: "
+              "nothing written; take a smaller --dt", file=sys.stderr)
+        return EXIT_FAILED
     if args.plot:
         from .plotting import plot_throw
 

@@ -62,13 +62,26 @@ ATTITUDES = ("free", "fixed")
 FLIGHTS = ("jump", "step")
 
 #: Outcome codes of a rollout (:attr:`Tracker.outcome`), each an index into :data:`OUTCOMES`.
-RUNNING, SANK, STOPPED, FLIPPED, TIME_LIMIT, STEP_LIMIT = 0, 1, 2, 3, 4, 5
+RUNNING, SANK, STOPPED, FLIPPED, TIME_LIMIT, STEP_LIMIT, DIVERGED = 0, 1, 2, 3, 4, 5, 6
 #: The outcome names, indexed by outcome code: ``OUTCOMES[int(tracker.outcome)]``. ``"running"`` (0) only
 #: while the stone is in play; a finished rollout ends ``"sank"`` (no point above the water),
 #: ``"stopped"`` (slower than ``SimConfig.stop_speed`` in the water), ``"flipped"`` (face normal pointing
-#: down), ``"time_limit"`` (``SimConfig.duration`` reached) or ``"step_limit"`` (``SimConfig.max_steps``
-#: ran out first).
-OUTCOMES = ("running", "sank", "stopped", "flipped", "time_limit", "step_limit")
+#: down), ``"time_limit"`` (``SimConfig.duration`` reached), ``"step_limit"`` (``SimConfig.max_steps``
+#: ran out first) or ``"diverged"`` (the integration failed: the state is no longer finite, or the stone
+#: moves faster than :data:`DIVERGED_SPEED`, which no throw can reach; the state is kept as it was then —
+#: take a smaller ``dt``).
+OUTCOMES = ("running", "sank", "stopped", "flipped", "time_limit", "step_limit", "diverged")
+#: Speed [m/s] beyond which a run counts as diverged: ten times the fastest accepted throw
+#: (:data:`jaxskip.throw.MAX_SPEED`); a fall from the highest release adds less than 45 m/s.
+DIVERGED_SPEED = 10.0 * MAX_SPEED
+
+def diverged_message(what: str, config: "SimConfig") -> str:
+    """The warning for outcome ``"diverged"`` (``what``: which run, and when)."""
+    return (f"{what} (outcome 'diverged'): the stone's state is no longer finite, or faster than "
+            f"{DIVERGED_SPEED:g} m/s, so its distance and contacts from then on mean nothing; the contact step "
+            f"dt = {config.dt:g} s is too long for this stone and throw (a light or thin stone, a fast throw, "
+            f"a long dt): take a smaller dt")
+
 
 # Contact phases.
 AIR, WET, LEAVING = 0, 1, 2
@@ -191,6 +204,51 @@ def warn_if_coarse(config: "SimConfig", stacklevel: int = 3) -> None:
     message = coarse_dt_message(config.dt)
     if message is not None:
         warnings.warn(message, AccuracyWarning, stacklevel=stacklevel)
+
+
+def contact_step_bound(stone: RigidStone, water: WaterParams, speed) -> float:
+    r"""An estimate of the longest stable contact step [s] of the free stone at ``speed`` [m/s]:
+    :math:`\Delta t^* = 1/\omega_\theta`, with :math:`\omega_\theta = V \sqrt{\rho_w C S R / (2 I_{min})}`
+    the rate at which the water's lift, ~½ ρ_w C V² S on the wetted face (S: half the mesh's area; C the
+    larger of ``c_lift`` and ``c_friction``), acting over the stone's radius R, swings the tilt of a stone
+    whose smallest principal moment of inertia is :math:`I_{min}` [kg m²].
+
+    Explicit steps of such a rotation go unstable beyond :math:`\omega \Delta t \approx 1`-2: the stone
+    then gains energy in contact. Measured (session 27; semi-implicit Euler, 40 random throws at each
+    speed 10-100 m/s, tilt 5-45°, attack 0-20°, spin 0-40 rev/s, for the paper stone at densities
+    2650 / 1000 / 300 / 100 kg/m³ and a 5 cm × 0.5 mm disk at 2650 / 500 kg/m³, dt 0.25 / 0.125 /
+    0.0625 ms): no throw gained speed where :math:`\Delta t \le \Delta t^*`; the first gains came at
+    :math:`\Delta t/\Delta t^*` = 1.09-1.75 for the thin disks and 2.4-4.6 for the paper stone (a
+    conservative bound for compact stones). The default paper stone at the default 0.25 ms is within it
+    up to 64 m/s.
+
+    >>> from jaxskip import paper_stone, rigid_stone, water_params
+    >>> stone = rigid_stone(paper_stone(), density=2650.0)
+    >>> round(contact_step_bound(stone, water_params(), 8.0) * 1e3, 1)  # ms at 8 m/s
+    2.0
+    """
+    areas = np.asarray(stone.areas, dtype=np.float64)
+    inertia = np.linalg.eigvalsh(np.asarray(stone.inertia, dtype=np.float64))[0]
+    c = max(float(water.c_lift), float(water.c_friction))
+    rate = float(speed) * math.sqrt(float(water.rho_water) * c * 0.5 * areas.sum() * float(stone.radius) / (2.0 * inertia))
+    return math.inf if rate == 0.0 else 1.0 / rate
+
+
+def warn_if_unstable(config: "SimConfig", stone: RigidStone, water: WaterParams, speed, height,
+                     stacklevel: int = 3) -> None:
+    r"""Issue an :class:`AccuracyWarning` if the free stone's contact step ``config.dt`` exceeds
+    :func:`contact_step_bound` at the fastest it can meet the water (``speed`` [m/s] and release
+    ``height`` [m], arrays of a batch's throws: :math:`\max \sqrt{V^2 + 2 g h}`)."""
+    if config.attitude == "fixed":
+        return
+    fastest = float(np.max(np.sqrt(np.asarray(speed, np.float64) ** 2
+                                   + 2.0 * float(water.gravity) * np.maximum(np.asarray(height, np.float64), 0.0))))
+    bound = contact_step_bound(stone, water, fastest)
+    if config.dt > bound:
+        warnings.warn(f"dt = {config.dt * 1e3:g} ms is longer than this stone's contact-step stability estimate, "
+                      f"{bound * 1e3:.3g} ms at {fastest:.3g} m/s (jaxskip.simulate.contact_step_bound): a light, "
+                      f"thin or fast stone can then gain energy in contact; take dt <= {bound * 1e3:.3g} ms",
+                      AccuracyWarning, stacklevel=stacklevel)
 
 
 def steps_for(duration: float, dt: float, multiple: int = 250) -> int:
@@ -769,11 +827,14 @@ def make_step(config: SimConfig, surface=flat_surface, push: bool = False):
         phase = jnp.where(begin | rewet, WET, jnp.where(leave, LEAVING, jnp.where(bounce, AIR, tr.phase)))
 
         speed = jnp.sqrt(jnp.sum(state.velocity**2) + 1e-30)
+        # (a NaN fails every comparison below: without this test a failed integration ran on to the time limit)
+        diverged = ~(jnp.isfinite(top) & (speed <= DIVERGED_SPEED) & jnp.all(jnp.isfinite(state.angular_velocity)))
         outcome = jnp.where(
-            top < 0.0, SANK,
+            diverged, DIVERGED,
+            jnp.where(top < 0.0, SANK,
             jnp.where(R[2, 2] < 0.0, FLIPPED,
                       jnp.where(wet & (speed < config.stop_speed), STOPPED,
-                                jnp.where(t >= config.duration, TIME_LIMIT, RUNNING))))
+                                jnp.where(t >= config.duration, TIME_LIMIT, RUNNING)))))
         outcome = jnp.where(tr.alive, outcome, tr.outcome)
         alive = tr.alive & (outcome == RUNNING)
 

@@ -97,9 +97,9 @@ def test_spin_stabilises_a_fast_throw(paper, water):
     """At 10 m/s, over 25 throws (tilt 10-30 deg x attack 2-20 deg): without spin most stones flip
     and every one flips or skips less than when spun at 20 or at 40 rev/s; the mean count rises with
     spin and flipping stops by 40 rev/s. Measured: flipped 84 / 84 / 56 / 0 % and mean 2.1 / 2.6 /
-    13.0 / 35.7 bounces at 0 / 10 / 20 / 40 rev/s — at 10-15 rev/s the model's stone flips as often as
+    12.2 / 35.7 bounces at 0 / 10 / 20 / 40 rev/s — at 10-15 rev/s the model's stone flips as often as
     an unspun one (the first contact's torque tips it: README, "Known limits"), it only skips a
-    little more. Known miss at exactly 10 rev/s: the claim holds for 24 of the 25 throws (tilt 15 deg,
+    little more. Known miss at exactly 10 rev/s: the claim holds for 24 of the 25 throws (tilt 25 deg,
     attack 2 deg: 4 bounces unspun, 4 bounces and a flip at 10 rev/s); asserted here as measured, not
     as the acceptance's "every throw"."""
     from jaxskip import simulate_batch

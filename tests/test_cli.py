@@ -409,3 +409,15 @@ def test_a_reader_that_goes_away_ends_the_command_quietly():
     _, err = p.communicate(timeout=300)
     assert p.returncode == 141, err
     assert err.decode().strip() == ""
+
+
+def test_a_throw_that_diverges_is_an_error_not_a_result(tmp_path):
+    """A run whose integration fails (here a 4.6 g stone at 100 m/s with the default 0.25 ms step, far
+    beyond its contact-step estimate) ends with outcome "diverged" instead of running on to the time
+    limit with a state of NaNs (a review's finding, session 27: "4 bounces over nan m; outcome: time
+    limit", exit status 0); the command says so, writes nothing and exits with status 1."""
+    png = tmp_path / "throw.png"
+    p = run("throw", "--speed", "100", "--attack", "0", "--density", "100", "--json", "--plot", str(png))
+    assert p.returncode == 1 and "Traceback" not in p.stderr and p.stdout == "", (p.returncode, p.stderr[-2000:])
+    assert "stability estimate" in p.stderr and "error: the throw diverged" in p.stderr, p.stderr
+    assert not png.exists()

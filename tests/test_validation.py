@@ -142,6 +142,36 @@ def test_coarse_dt_warns_and_its_answer_really_is_unconverged():
         simulate_batch(Throw.from_degrees(speed=[6.0, 8.0]), config=coarse_config)
 
 
+def test_contact_step_beyond_the_stability_estimate_warns_and_the_warning_is_earned():
+    """A light or thin stone's tilt is swung by the water faster than a 0.25 ms step resolves, and the
+    explicit step then pumps energy into the throw (a review's finding, session 27: a 0.5 mm disk thrown
+    at 40 m/s left the water at 250 m/s). simulate() warns when dt exceeds contact_step_bound at the
+    fastest the stone meets the water; below the bound the same throw only slows down (measured: 250
+    against 10.6 m/s at the end)."""
+    import warnings
+
+    import numpy as np
+
+    from jaxskip import AccuracyWarning, disk, rigid_stone, water_params
+    from jaxskip.simulate import contact_step_bound
+
+    thin = rigid_stone(disk(0.05, 0.0005), density=2650.0)
+    throw = Throw.from_degrees(speed=40.0, tilt=36.5, attack=16.0, spin=0.2)
+    bound = contact_step_bound(thin, water_params(), 40.0)
+    assert 1.25e-4 < bound < 2.5e-4, bound
+    release = np.sqrt(40.0**2 + 2 * 9.81 * float(throw.height))
+
+    def top_speed(result):
+        return np.linalg.norm(result.trajectory["velocity"], axis=1).max()
+
+    with pytest.warns(AccuracyWarning, match="stability estimate"):
+        coarse = simulate(throw, thin, config=SimConfig(dt=2.5e-4, duration=1.0, max_steps=4000))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", AccuracyWarning)
+        fine = simulate(throw, thin, config=SimConfig(dt=1.25e-4, duration=1.0, max_steps=8000))
+    assert top_speed(coarse) > 2 * release and top_speed(fine) <= release + 1e-3, (top_speed(coarse), top_speed(fine))
+
+
 def test_check_accepts_a_bound_rounded_to_float32_and_nothing_beyond():
     """With x64 off, Throw.from_degrees(attack=-90) stores float32(-π/2), one rounding below -π/2: simulate()
     used to refuse the throw that from_degrees had accepted. check() allows that rounding, not more."""
@@ -614,3 +644,18 @@ def test_throw_and_water_on_different_devices_still_simulate():
     water = jax.device_put(water_params(), devices[0])
     config = SimConfig(max_steps=500)
     assert simulate(throw, water=water, config=config).bounces == simulate(config=config).bounces
+
+
+def test_a_failed_integration_ends_as_diverged_with_a_warning():
+    """A state that is no longer finite (or faster than DIVERGED_SPEED) ends the run as "diverged": before,
+    every outcome test failed on NaN and the run went on to the time limit, reporting a NaN distance."""
+    from jaxskip import simulate_batch
+    from jaxskip.simulate import DIVERGED, OUTCOMES
+
+    throw = Throw.from_degrees(speed=100.0, attack=0.0)
+    with pytest.warns(RuntimeWarning, match="diverged"):
+        r = simulate(throw, density=100.0, config=SimConfig(record=False))
+    assert r.outcome == "diverged" == OUTCOMES[DIVERGED] and r.final_time < 1.0, (r.outcome, r.final_time)
+    with pytest.warns(RuntimeWarning, match="1 of 2 throws diverged"):
+        b = simulate_batch(Throw.from_degrees(speed=[100.0, 8.0], attack=0.0), density=100.0)
+    assert b.outcome_names.tolist()[0] == "diverged" != b.outcome_names.tolist()[1]
