@@ -45,6 +45,7 @@ import numpy as np
 
 from ._docs import document_fields
 from ._checks import ParameterError, check_array, check_choice, check_int
+from . import forces as _forces
 from .forces import COEFFICIENT_MAX
 from .throw import MAX_SPEED
 
@@ -60,10 +61,10 @@ and excludes only tilts within :math:`10^{-4} C_l/\\tilde C \\le 10^{-4}` rad (0
 where no stone skips anyway: the speed a fully immersed square needs to carry its weight,
 :math:`\\sqrt{2Mg/(C\\rho_w a^2)}`, is 44 m/s for Bocquet's 0.1 m, 0.1 kg square at the floor."""
 
-RHO_RANGE = (0.0, 20000.0)
-"""Accepted water density [kg/m^3]: (0, 20000], as :func:`jaxskip.water_params`."""
-G_RANGE = (0.0, 100.0)
-"""Accepted gravitational acceleration [m/s^2]: (0, 100], as :func:`jaxskip.water_params`."""
+RHO_RANGE = _forces.RHO_RANGE
+"""Accepted water density [kg/m^3]: [10, 20000], as :func:`jaxskip.water_params`."""
+G_RANGE = _forces.GRAVITY_RANGE
+"""Accepted gravitational acceleration [m/s^2]: [0.01, 100], as :func:`jaxskip.water_params`."""
 
 
 def _scalar(name: str, value, low: float, high: float, *, unit: str = "", low_open: bool = False,
@@ -89,8 +90,8 @@ def _constants(c_lift, c_friction, rho, g=None) -> tuple:
     """The water's constants checked against :func:`jaxskip.water_params`' ranges (floats)."""
     out = (_scalar("c_lift", c_lift, 0.0, COEFFICIENT_MAX, unit="[-]"),
            _scalar("c_friction", c_friction, 0.0, COEFFICIENT_MAX, unit="[-]"),
-           _scalar("rho", rho, *RHO_RANGE, unit="kg/m^3", low_open=True))
-    return out if g is None else out + (_scalar("g", g, *G_RANGE, unit="m/s^2", low_open=True),)
+           _scalar("rho", rho, *RHO_RANGE, unit="kg/m^3"))
+    return out if g is None else out + (_scalar("g", g, *G_RANGE, unit="m/s^2"),)
 
 
 def _check_tilt(tilt, c_lift: float, c_friction: float) -> np.ndarray:
@@ -207,7 +208,7 @@ def collision_length(stone: ReducedStone, tilt, c_lift=1.0, c_friction=1.0, rho=
         :math:`C = C_l\\cos\\theta - C_f\\sin\\theta > 10^{-4} C_l` (:data:`NET_LIFT_FLOOR`), i.e. below
         :math:`\\arctan(C_l/C_f)` (45° for the defaults).
     c_lift, c_friction : C_l, C_f [-], in [0, 10] (as :func:`jaxskip.water_params`).
-    rho : water density [kg/m^3], in (0, 20000].
+    rho : water density [kg/m^3], in [10, 20000].
 
     Returns
     -------
@@ -234,7 +235,7 @@ def estimated_bounces(speed, stone: ReducedStone, tilt, c_lift=1.0, c_friction=1
     ----------
     speed : horizontal speed at the first touch [m/s], in (0, 100]; a number or an array of them.
     stone, tilt, c_lift, c_friction, rho : as :func:`collision_length` (``tilt`` [rad]).
-    g : gravitational acceleration [m/s^2], in (0, 100].
+    g : gravitational acceleration [m/s^2], in [0.01, 100].
 
     Returns
     -------
@@ -247,7 +248,7 @@ def estimated_bounces(speed, stone: ReducedStone, tilt, c_lift=1.0, c_friction=1
     v = _batch("speed", speed, 0.0, MAX_SPEED, unit="m/s", low_open=True)
     if v is None:
         raise ParameterError("speed must be concrete (estimated_bounces is plain Python arithmetic, not traceable)")
-    g = _scalar("g", g, *G_RANGE, unit="m/s^2", low_open=True)
+    g = _scalar("g", g, *G_RANGE, unit="m/s^2")
     L = collision_length(stone, tilt, c_lift, c_friction, rho)       # checks stone, tilt and the constants
     th, c_lift, c_friction = float(tilt), float(c_lift), float(c_friction)    # checked above: plain numbers
     mu = (c_lift * math.sin(th) + c_friction * math.cos(th)) / (c_lift * math.cos(th) - c_friction * math.sin(th))
@@ -268,7 +269,7 @@ def reduced_throw(speed, tilt, attack, stone: ReducedStone | None = None, *, c_l
     attack : angle of the velocity below the horizontal [rad], in [0, π/2).
     stone : :class:`ReducedStone`; default Bocquet's 0.1 m, 0.1 kg square.
     c_lift, c_friction : C_l, C_f [-], in [0, 10] (Bocquet's example: 1, 1).
-    rho : water density [kg/m^3], in (0, 20000]; ``g``: gravity [m/s^2], in (0, 100].
+    rho : water density [kg/m^3], in [10, 20000]; ``g``: gravity [m/s^2], in [0.01, 100].
     dt : contact time step [s] (> 0); ``contact_steps``: steps per contact before it counts as sunk,
         an integer in [1, 10^7] (``dt * contact_steps`` = 0.1 s by default); ``max_contacts``: contacts
         simulated (K), an integer in [1, 10^5].

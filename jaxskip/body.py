@@ -206,9 +206,12 @@ def rigid_stone(mesh: TriMesh, *, density: float | None = None, mass: float | No
     v = (np.asarray(mesh.vertices, dtype=np.float64) - np.asarray(props.center_of_mass)) @ axes
     radius = float(np.max(np.linalg.norm(v, axis=1)))
     if not RADIUS_RANGE[0] <= radius <= RADIUS_RANGE[1]:
+        shown = f"{radius:.4g}"
+        if RADIUS_RANGE[0] <= float(shown) <= RADIUS_RANGE[1]:  # ("got 1 m" for 1.0000125 m read as a contradiction)
+            shown = f"{radius:.12g}"
         raise ParameterError(
             f"stone {mesh.name!r}: its size (bounding radius) must be in [{RADIUS_RANGE[0] * 1e3:g} mm, "
-            f"{RADIUS_RANGE[1]:g} m], got {radius:.4g} m; vertices are read in metres (an OBJ in millimetres needs "
+            f"{RADIUS_RANGE[1]:g} m], got {shown} m; vertices are read in metres (an OBJ in millimetres needs "
             "scaling by 0.001)")
     tri = v[np.asarray(mesh.faces)]
     cross = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])

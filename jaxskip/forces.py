@@ -114,9 +114,9 @@ class WaterParams:
     c_friction: jax.Array
     """() drag / friction coefficient :math:`C_f` [-], in [0, 10]."""
     rho_water: jax.Array
-    """() water density :math:`\\rho_w` [kg/m^3], in (0, 20000]."""
+    """() water density :math:`\\rho_w` [kg/m^3], in [10, 20000]."""
     gravity: jax.Array
-    """() gravitational acceleration :math:`g` [m/s^2], in (0, 100], acting along :math:`-z`."""
+    """() gravitational acceleration :math:`g` [m/s^2], in [0.01, 100], acting along :math:`-z`."""
 
     def check(self) -> "WaterParams":
         """Check concrete values as :func:`water_params` does (for a ``WaterParams(...)`` built directly);
@@ -167,8 +167,8 @@ def water_params(
     c_lift, c_friction : coefficients [-] in [0, 10] (``None``: the law's default; Bocquet's are of
         order one: 1 and 0.3 here). Beyond 10 the water's force outruns the contact step: at
         ``c_lift`` = 1e3 the default throw flips at 0.36 m, at 1e20 it flies 7e11 m.
-    rho_water : water density [kg/m^3], in (0, 20000].
-    gravity : gravitational acceleration [m/s^2], in (0, 100].
+    rho_water : water density [kg/m^3], in [10, 20000].
+    gravity : gravitational acceleration [m/s^2], in [0.01, 100].
 
     Returns a :class:`WaterParams` (a pytree of scalars: traced, so a new value does not recompile).
 
@@ -186,12 +186,19 @@ def water_params(
     return WaterParams(*(f(v) for v in _check_constants(cl, cf, rho_water, gravity)))
 
 
+#: Accepted gravity [m/s^2]: from a small moon's (Ceres: 0.28) with margin to ten times Earth's. A denormal
+#: gravity (1e-310) passed a check of > 0 and XLA, which flushes denormals to zero, divided 0 by 0.
+GRAVITY_RANGE = (0.01, 100.0)
+#: Accepted liquid density [kg/m^3]: liquid hydrogen is ~70, mercury ~13 600.
+RHO_RANGE = (10.0, 20000.0)
+
+
 def _check_constants(c_lift, c_friction, rho_water, gravity) -> tuple:
     """The water's constants checked against their ranges (floats, in :class:`WaterParams`' order)."""
     return (check_range("c_lift", c_lift, 0.0, COEFFICIENT_MAX),
             check_range("c_friction", c_friction, 0.0, COEFFICIENT_MAX),
-            check_range("rho_water", rho_water, 0.0, 20000.0, unit="kg/m^3", low_open=True),
-            check_range("gravity", gravity, 0.0, 100.0, unit="m/s^2", low_open=True))
+            check_range("rho_water", rho_water, *RHO_RANGE, unit="kg/m^3"),
+            check_range("gravity", gravity, *GRAVITY_RANGE, unit="m/s^2"))
 
 
 def _safe_norm(v):

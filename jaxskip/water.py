@@ -131,10 +131,15 @@ import numpy as np
 
 from ._docs import document_fields
 from ._checks import ParameterError, check_choice, check_int, check_positive, check_range, check_real
+from .forces import GRAVITY_RANGE, RHO_RANGE
 
 CLAMPS = ("reference", "zero", "smooth")
 BOUNDARIES = ("closed", "sponge")
 MAX_COLUMNS = 4096 * 4096
+#: Accepted column spacing [m] and depth [m]. A denormal spacing (1e-300) passed a check of > 0 and
+#: raised a bare ZeroDivisionError; a denormal gravity gave NaN heights.
+SPACING_RANGE = (1e-5, 1e3)
+DEPTH_RANGE = (1e-5, 1e4)
 _MARGIN = 1e-9   # relative: a column drained by the clamp keeps ~1e-9 of its outflow, above round-off
 
 
@@ -197,13 +202,13 @@ class WaterGrid:
         # Every number is stored as the plain float it was checked as (a NumPy or JAX scalar would
         # otherwise ride along into the hash and the compiled steps).
         put = lambda name, v: object.__setattr__(self, name, v)  # noqa: E731
-        put("spacing", check_positive("spacing", self.spacing, unit="m"))
-        put("depth", check_positive("depth", self.depth, unit="m"))
+        put("spacing", check_range("spacing", self.spacing, *SPACING_RANGE, unit="m"))
+        put("depth", check_range("depth", self.depth, *DEPTH_RANGE, unit="m"))
         if not (isinstance(self.origin, tuple) and len(self.origin) == 2):
             raise ParameterError(f"origin must be a tuple (x, y) in m, got {self.origin!r}")
         put("origin", tuple(check_real(name, v, unit="m") for name, v in zip(("origin[0]", "origin[1]"), self.origin)))
-        put("gravity", check_positive("gravity", self.gravity, unit="m/s^2"))
-        put("rho", check_positive("rho", self.rho, unit="kg/m^3"))
+        put("gravity", check_range("gravity", self.gravity, *GRAVITY_RANGE, unit="m/s^2"))
+        put("rho", check_range("rho", self.rho, *RHO_RANGE, unit="kg/m^3"))
         put("cfl", check_range("cfl", self.cfl, 0.0, 1.0, low_open=True))
         if self.dt is not None:
             put("dt", check_positive("dt", self.dt, unit="s"))
@@ -251,9 +256,9 @@ def stable_dt(spacing: float, depth: float, gravity: float = 9.81) -> float:
     >>> round(stable_dt(0.01, 0.1), 6)
     0.008744
     """
-    check_positive("spacing", spacing, unit="m")
-    check_positive("depth", depth, unit="m")
-    check_positive("gravity", gravity, unit="m/s^2")
+    check_range("spacing", spacing, *SPACING_RANGE, unit="m")
+    check_range("depth", depth, *DEPTH_RANGE, unit="m")
+    check_range("gravity", gravity, *GRAVITY_RANGE, unit="m/s^2")
     return math.sqrt(3.0) / 2.0 * spacing / math.sqrt(gravity * depth)
 
 

@@ -226,8 +226,8 @@ def _bad_inputs():
     one = Throw.from_degrees()
     return [
         # the water's constants built by hand are checked like water_params()'s
-        (lambda: simulate(water=WaterParams(1.0, 0.3, math.nan, 9.81)), r"rho_water must be finite and in \(0, 20000\]"),
-        (lambda: simulate(water=WaterParams(1.0, 0.3, 1000.0, -9.81)), r"gravity must be in \(0, 100\]"),
+        (lambda: simulate(water=WaterParams(1.0, 0.3, math.nan, 9.81)), r"rho_water must be finite and in \[10, 20000\]"),
+        (lambda: simulate(water=WaterParams(1.0, 0.3, 1000.0, -9.81)), r"gravity must be in \[0.01, 100\]"),
         (lambda: simulate(water={"c_lift": 1.0}), "water must be a jaxskip.WaterParams"),
         (lambda: simulate(config={"dt": 1e-4}), "config must be a jaxskip.SimConfig"),
         (lambda: simulate_batch(Throw(*[np.ones(3)] * 2, *[np.ones(2)], *[np.ones(3)] * 3)),
@@ -659,3 +659,18 @@ def test_a_failed_integration_ends_as_diverged_with_a_warning():
     with pytest.warns(RuntimeWarning, match="1 of 2 throws diverged"):
         b = simulate_batch(Throw.from_degrees(speed=[100.0, 8.0], attack=0.0), density=100.0)
     assert b.outcome_names.tolist()[0] == "diverged" != b.outcome_names.tolist()[1]
+
+
+@pytest.mark.parametrize("make, said", [
+    (lambda: water_params(gravity=1e-310), r"gravity must be in \[0.01, 100\] m/s\^2, got 1e-310"),
+    (lambda: water_params(rho_water=1e-300), r"rho_water must be in \[10, 20000\]"),
+    (lambda: __import__("jaxskip.water").water.WaterGrid(shape=(8, 8), spacing=1e-300), r"spacing must be in \[1e-05, 1000\] m"),
+    (lambda: __import__("jaxskip.water").water.WaterGrid(shape=(8, 8), gravity=1e-320), r"gravity must be in \[0.01, 100\]"),
+    (lambda: __import__("jaxskip.water").water.WaterGrid(shape=(8, 8), depth=1e-9), r"depth must be in \[1e-05, 10000\] m"),
+])
+def test_denormal_constants_are_refused_with_their_physical_range(make, said):
+    """A review's finding (session 27): a gravity of 1e-310 passed a check of > 0, and XLA, which
+    flushes denormals to zero, gave a NaN distance with outcome step_limit; a grid spacing of 1e-300
+    raised a bare ZeroDivisionError. The constants now have physical ranges."""
+    with pytest.raises(ParameterError, match=said):
+        make()
