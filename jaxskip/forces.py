@@ -63,6 +63,9 @@ VELOCITIES = ("local", "body")
 #: difference of two integrals times κ, so round-off grows with κ: on the paper stone at rest in the water
 #: (``notebooks/stability.py``) the wetted area's error is 6e-5 at κ = 1e3, 1e-4 at 1e6 and 5 % at 1e8 in
 #: float32 (6e-11 at 1e6 in float64); below κ = 1 the ramp is wider than any stone (error over 10 %).
+#: Accepted is not accurate: the ramp loads the stone from 1/(2κ) above the water, and the default throw
+#: makes 0 / 1 / 17 / 18 / 18 bounces at κ = 1 / 10 / 100 / 1e3 / 1e4 (18 with exact clipping; session 27):
+#: take κ ≥ 1e3 [1/m] for answers near the exact clip.
 SHARPNESS_RANGE = (1.0, 1e6)
 
 
