@@ -75,6 +75,7 @@ OUTCOMES = ("running", "sank", "stopped", "flipped", "time_limit", "step_limit",
 #: (:data:`jaxskip.throw.MAX_SPEED`); a fall from the highest release adds less than 45 m/s.
 DIVERGED_SPEED = 10.0 * MAX_SPEED
 
+
 def diverged_message(what: str, config: "SimConfig") -> str:
     """The warning for outcome ``"diverged"`` (``what``: which run, and when)."""
     return (f"{what} (outcome 'diverged'): the stone's state is no longer finite, or faster than "
@@ -230,7 +231,8 @@ def contact_step_bound(stone: RigidStone, water: WaterParams, speed) -> float:
     areas = np.asarray(stone.areas, dtype=np.float64)
     inertia = np.linalg.eigvalsh(np.asarray(stone.inertia, dtype=np.float64))[0]
     c = max(float(water.c_lift), float(water.c_friction))
-    rate = float(speed) * math.sqrt(float(water.rho_water) * c * 0.5 * areas.sum() * float(stone.radius) / (2.0 * inertia))
+    rho_c_s = float(water.rho_water) * c * 0.5 * areas.sum()  # rho_w C S [kg/m], S half the mesh's area
+    rate = float(speed) * math.sqrt(rho_c_s * float(stone.radius) / (2.0 * inertia))
     return math.inf if rate == 0.0 else 1.0 / rate
 
 
