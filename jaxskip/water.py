@@ -162,15 +162,15 @@ class WaterGrid:
     shape: tuple[int, int] = (128, 128)
     """Columns ``(nx, ny)``, each at least 3, at most 4096² in all (integers; NumPy's too)."""
     spacing: float = 0.01
-    """Column side :math:`l` [m] (also the axis pipe length), > 0."""
+    """Column side :math:`l` [m] (also the axis pipe length), in [1e-5, 1e3]."""
     depth: float = 0.1
-    """Rest depth :math:`H` [m], > 0: waves travel at :math:`\\sqrt{gH}`."""
+    """Rest depth :math:`H` [m], in [1e-5, 1e4]: waves travel at :math:`\\sqrt{gH}`."""
     origin: tuple[float, float] = (0.0, 0.0)
     """Centre ``(x, y)`` [m] of column ``(0, 0)``."""
     gravity: float = 9.81
-    """Gravitational acceleration g [m/s²], > 0."""
+    """Gravitational acceleration g [m/s²], in [0.01, 100]."""
     rho: float = 1000.0
-    """Water density ρ [kg/m³], > 0 (converts external pressure to head)."""
+    """Water density ρ [kg/m³], in [10, 20000] (converts external pressure to head)."""
     dt: float | None = None
     """Water time step [s], in (0, :func:`stable_dt`]; ``None``: ``cfl`` times :func:`stable_dt`."""
     cfl: float = 0.5

@@ -647,8 +647,10 @@ def test_throw_and_water_on_different_devices_still_simulate():
 
 
 def test_a_failed_integration_ends_as_diverged_with_a_warning():
-    """A state that is no longer finite (or faster than DIVERGED_SPEED) ends the run as "diverged": before,
-    every outcome test failed on NaN and the run went on to the time limit, reporting a NaN distance."""
+    """A run whose state leaves the physical range ends as "diverged". This throw is caught by the speed
+    limit (DIVERGED_SPEED, at 8.2 km/s before any NaN); before, such a run went on and the same state
+    reached NaN and the time limit, reporting a NaN distance. (The NaN checks themselves are not reached
+    by this test.)"""
     from jaxskip import simulate_batch
     from jaxskip.simulate import DIVERGED, OUTCOMES
 
