@@ -406,7 +406,8 @@ def step(state: dict, tr: dict, stone: NpStone, water: NpWater, config) -> tuple
     phase = np.where(begin | rewet, WET, np.where(leave, LEAVING, np.where(bounce, AIR, phase0)))
 
     speed = np.sqrt(_sum3(v * v) + 1e-30)
-    diverged = ~(np.isfinite(top) & (speed <= DIVERGED_SPEED) & np.all(np.isfinite(w), axis=-1))
+    finite = np.all(np.isfinite(x), axis=-1) & np.all(np.isfinite(w), axis=-1)
+    diverged = ~(finite & np.isfinite(top) & (speed <= DIVERGED_SPEED))
     outcome = np.where(diverged, DIVERGED,
                        np.where(top < 0.0, SANK,
                                 np.where(R[:, 2, 2] < 0.0, FLIPPED,

@@ -21,7 +21,7 @@ import warnings
 from ._checks import ParameterError, check_range
 from .body import DENSITY_RANGE
 from .forces import COEFFICIENT_MAX
-from .simulate import MAX_DT, MAX_STEPS, SimConfig
+from .simulate import DIVERGED_SPEED, MAX_DT, MAX_STEPS, SimConfig
 from .throw import MAX_HEADING, MAX_HEIGHT, MAX_SPEED, MAX_SPIN_REVS
 from .settings import SIM_DEFAULTS, describe, environment, simulation  # noqa: F401 (shared with cli_search)
 
@@ -287,12 +287,15 @@ def _throw(args) -> int:
         field = default_window()
     # With a field, snapshot the water every 40 steps (10 ms in contact) for the pictures.
     chunk = 40 if (args.animate or args.water_plot) else 1000
-    result = simulate(throw, stone, water=water, config=config, progress=progress, water_field=field, chunk=chunk)
+    with warnings.catch_warnings():  # (a diverged throw is this command's error below, not also a warning)
+        warnings.filterwarnings("ignore", message=".*outcome 'diverged'", category=RuntimeWarning)
+        result = simulate(throw, stone, water=water, config=config, progress=progress, water_field=field, chunk=chunk)
     result = dataclasses.replace(result, stone_name=_stone_label(values["stone"]))
     if result.outcome == "diverged":
-        # (its warning said why; a picture or a file of a failed integration would be read as a result)
-        print(f"jaxskip: error: the throw diverged at t = {result.final_time:.4g} s with --dt {config.dt:g}: "
-              "nothing written; take a smaller --dt", file=sys.stderr)
+        # (a picture or a file of a failed integration would be read as a result)
+        print(f"jaxskip: error: the throw diverged at t = {result.final_time:.4g} s (its state stopped being finite "
+              f"or passed {DIVERGED_SPEED:g} m/s) with --dt {config.dt:g}: nothing written; take a smaller --dt",
+              file=sys.stderr)
         return EXIT_FAILED
     if args.plot:
         from .plotting import plot_throw

@@ -830,7 +830,8 @@ def make_step(config: SimConfig, surface=flat_surface, push: bool = False):
 
         speed = jnp.sqrt(jnp.sum(state.velocity**2) + 1e-30)
         # (a NaN fails every comparison below: without this test a failed integration ran on to the time limit)
-        diverged = ~(jnp.isfinite(top) & (speed <= DIVERGED_SPEED) & jnp.all(jnp.isfinite(state.angular_velocity)))
+        finite = jnp.all(jnp.isfinite(state.position)) & jnp.all(jnp.isfinite(state.angular_velocity))
+        diverged = ~(finite & jnp.isfinite(top) & (speed <= DIVERGED_SPEED))
         outcome = jnp.where(
             diverged, DIVERGED,
             jnp.where(top < 0.0, SANK,

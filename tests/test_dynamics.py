@@ -396,3 +396,21 @@ def test_water_with_local_velocities_only_takes_energy_from_a_free_stone(paper, 
     energy = 0.5 * m * np.sum(tr["velocity"] ** 2, axis=1) + m * 9.81 * tr["position"][:, 2] + rotation
     assert r.bounces >= 2 and energy[-1] < 0.5 * energy[0], (r.bounces, energy[0], energy[-1])
     assert np.max(np.diff(energy)) <= 1e-6 * energy[0], np.max(np.diff(energy))
+
+
+@pytest.mark.parametrize("field", ["position", "angular_velocity"])
+def test_a_state_that_is_no_longer_finite_ends_the_run_as_diverged(paper, water, field):
+    """The NaN branch of the outcome "diverged": a NaN fails every other outcome test (top < 0, ...),
+    so before session 27 such a state ran on to the time limit. One step from a NaN state ends the
+    run, and later steps keep it ended."""
+    from jaxskip import initial_carry, make_step
+    from jaxskip.simulate import DIVERGED
+
+    config = SimConfig(record=False, max_steps=10)
+    state, tracker = initial_carry(config, Throw.from_degrees(), paper)
+    bad = getattr(state, field).at[0].set(jnp.nan)
+    carry = (dataclasses.replace(state, **{field: bad}), tracker)
+    step = jax.jit(lambda c: make_step(config)(c, paper, water)[0])
+    for _ in range(3):
+        carry = step(carry)
+    assert int(carry[1].outcome) == DIVERGED and not bool(carry[1].alive), carry[1].counters
