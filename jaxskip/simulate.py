@@ -240,13 +240,16 @@ def warn_if_unstable(config: "SimConfig", stone: RigidStone, water: WaterParams,
                      stacklevel: int = 3) -> None:
     r"""Issue an :class:`AccuracyWarning` if the free stone's contact step ``config.dt`` exceeds
     :func:`contact_step_bound` at the fastest it can meet the water (``speed`` [m/s] and release
-    ``height`` [m], arrays of a batch's throws: :math:`\max \sqrt{V^2 + 2 g h}`)."""
+    ``height`` [m], arrays of a batch's throws: :math:`\max \sqrt{V^2 + 2 g h}`), unless ``dt`` is
+    above :data:`ACCURATE_DT` and the bound is not below it (:func:`warn_if_coarse` then already asks
+    for a step that is stable)."""
     if config.attitude == "fixed":
         return
     fastest = float(np.max(np.sqrt(np.asarray(speed, np.float64) ** 2
                                    + 2.0 * float(water.gravity) * np.maximum(np.asarray(height, np.float64), 0.0))))
     bound = contact_step_bound(stone, water, fastest)
-    if config.dt > bound:
+    # (beyond ACCURATE_DT, warn_if_coarse already asks for dt <= ACCURATE_DT: enough where the bound is above it)
+    if config.dt > bound and not (config.dt > ACCURATE_DT and bound >= ACCURATE_DT):
         warnings.warn(f"dt = {config.dt * 1e3:g} ms is longer than this stone's contact-step stability estimate, "
                       f"{bound * 1e3:.3g} ms at {fastest:.3g} m/s (jaxskip.simulate.contact_step_bound): a light, "
                       f"thin or fast stone can then gain energy in contact; take dt <= {bound * 1e3:.3g} ms",
