@@ -37,14 +37,14 @@ from .batch import BatchResult, simulate_batch  # noqa: E402
 from .body import RigidStone, rigid_stone  # noqa: E402
 from .forces import ForceModel, WaterParams, water_params  # noqa: E402
 from .mesh import MassProperties, MeshError, TriMesh, mass_properties, read_obj, validate_mesh, write_obj  # noqa: E402
-from .simulate import (OUTCOMES, AccuracyWarning, Record, SimConfig, StoneState, Tracker, initial_carry, initial_state, make_step, rollout,  # noqa: E402
-                       rollout_jit, steps_for)
+from .simulate import (OUTCOMES, AccuracyWarning, DivergedWarning, Record, SimConfig, StoneState, Tracker, initial_carry, initial_state, make_step, rollout,  # noqa: E402
+                       rollout_jit, StabilityWarning, steps_for)
 from .stones import BUILTIN_STONES, clanet_disk, disk, ellipsoid_pebble, irregular_pebble, load_stone, paper_stone  # noqa: E402
 from .throw import Throw  # noqa: E402
 from .water import WaterGrid, WaterState, height_at, make_water_step, run_water, stable_dt, still_water  # noqa: E402
 
 __all__ = [
-    "AccuracyWarning", "BUILTIN_STONES", "BatchResult", "CPU_DEVICES", "XLA_TUNING", "Contact", "ForceModel", "MassProperties", "MeshError", "OUTCOMES", "ParameterError",
+    "AccuracyWarning", "BUILTIN_STONES", "DivergedWarning", "StabilityWarning", "BatchResult", "CPU_DEVICES", "XLA_TUNING", "Contact", "ForceModel", "MassProperties", "MeshError", "OUTCOMES", "ParameterError",
     "Record", "RigidStone", "SimConfig", "StoneState", "Throw", "ThrowResult", "Tracker", "TriMesh", "WaterParams",
     "clanet_disk", "disk", "ellipsoid_pebble", "initial_carry", "initial_state", "irregular_pebble", "load_stone", "make_step",
     "mass_properties", "paper_stone", "read_obj", "resolve_stone", "rigid_stone", "rollout", "rollout_jit",

@@ -28,7 +28,7 @@ from .body import DENSITY_RANGE, RigidStone, rigid_stone
 from .forces import DEFAULT_COEFFICIENTS, WaterParams, water_params
 from .mesh import TriMesh
 from .coupled import check_shared_constants, default_water_dt, initial_field, make_coupled_step
-from .simulate import (_ALIVE, DIVERGED, OUTCOMES, STEP_LIMIT, SimConfig, StoneState, Tracker, _new_tracker, _scan,
+from .simulate import (_ALIVE, DIVERGED, OUTCOMES, DivergedWarning, STEP_LIMIT, SimConfig, StoneState, Tracker, _new_tracker, _scan,
                        diverged_message, initial_state, make_step, warn_if_coarse, warn_if_unstable)
 from .stones import BUILTIN_STONES, load_stone
 from .throw import Throw
@@ -377,7 +377,7 @@ def simulate(
     :class:`ThrowResult`: ``bounces``, ``contacts`` (each :class:`Contact`: start and end time [s],
     position along the heading [m], tilt in and out [rad]), ``distance`` [m], ``outcome`` (``sank``,
     ``stopped``, ``flipped``, ``time_limit``, ``step_limit`` or ``diverged``: the integration failed,
-    with a ``RuntimeWarning``), ``final_time`` [s], the per-step
+    with a :class:`jaxskip.simulate.DivergedWarning`, a ``RuntimeWarning``), ``final_time`` [s], the per-step
     ``trajectory`` (SI arrays), the resolved throw, config, stone and water; ``help(ThrowResult)``
     lists every field with its units.
 
@@ -468,7 +468,7 @@ def simulate(
     outcome = OUTCOMES[STEP_LIMIT] if tr.alive else OUTCOMES[int(tr.outcome)]
     end_time = float(state.time)
     if outcome == OUTCOMES[DIVERGED]:
-        warnings.warn(diverged_message(f"the throw diverged at t = {end_time:.4g} s", config), RuntimeWarning,
+        warnings.warn(diverged_message(f"the throw diverged at t = {end_time:.4g} s", config), DivergedWarning,
                       stacklevel=2)
     k = min(int(tr.contacts), config.max_contacts)
     heading = float(throw.heading)

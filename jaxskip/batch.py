@@ -33,7 +33,7 @@ from ._progress import ProgressLine
 from ._checks import ParameterError, check_bool, check_int
 from .api import checked_config, checked_water, resolve_stone
 from .forces import WaterParams, water_params
-from .simulate import (DIVERGED, OUTCOMES, SimConfig, StoneState, Tracker, _new_tracker, _scan, diverged_message,
+from .simulate import (DIVERGED, OUTCOMES, DivergedWarning, SimConfig, StoneState, Tracker, _new_tracker, _scan, diverged_message,
                        initial_state, make_step, warn_if_unstable)
 from .throw import Throw
 
@@ -249,7 +249,7 @@ def simulate_batch(
     failed = np.flatnonzero(outcome == DIVERGED)
     if failed.size:
         warnings.warn(diverged_message(f"{failed.size} of {n} throws diverged (indices {failed[:5].tolist()}"
-                                       + (", ..." if failed.size > 5 else "") + ")", config), RuntimeWarning,
+                                       + (", ..." if failed.size > 5 else "") + ")", config), DivergedWarning,
                       stacklevel=2)
     # Horizontal distance from release: ``initial_state`` releases every throw above x = y = 0.
     distance = np.hypot(final_state.position[:, 0], final_state.position[:, 1])

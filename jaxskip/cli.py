@@ -21,7 +21,7 @@ import warnings
 from ._checks import ParameterError, check_range
 from .body import DENSITY_RANGE
 from .forces import COEFFICIENT_MAX
-from .simulate import DIVERGED_SPEED, MAX_DT, MAX_STEPS, SimConfig
+from .simulate import DIVERGED_SPEED, MAX_DT, MAX_STEPS, DivergedWarning, SimConfig
 from .throw import MAX_HEADING, MAX_HEIGHT, MAX_SPEED, MAX_SPIN_REVS
 from .settings import SIM_DEFAULTS, describe, environment, simulation  # noqa: F401 (shared with cli_search)
 
@@ -288,7 +288,7 @@ def _throw(args) -> int:
     # With a field, snapshot the water every 40 steps (10 ms in contact) for the pictures.
     chunk = 40 if (args.animate or args.water_plot) else 1000
     with warnings.catch_warnings():  # (a diverged throw is this command's error below, not also a warning)
-        warnings.filterwarnings("ignore", message=".*outcome 'diverged'", category=RuntimeWarning)
+        warnings.simplefilter("ignore", DivergedWarning)
         result = simulate(throw, stone, water=water, config=config, progress=progress, water_field=field, chunk=chunk)
     result = dataclasses.replace(result, stone_name=_stone_label(values["stone"]))
     if result.outcome == "diverged":
@@ -359,9 +359,19 @@ def _with_flag(message: str, args) -> str:
 
 def _warning_printer(args):
     """``warnings.showwarning`` for this edge: one line on stderr (``jaxskip: warning: ...``), no source
-    line, the parameter named by its flag (``--dt = 5 ms ...``)."""
+    line, the parameter named by its flag (``--dt = 5 ms ...``). Each text is printed once a run (a search's
+    batches reset Python's own once-registry with their ``catch_warnings``), and so is one
+    :class:`~jaxskip.StabilityWarning` (the first: a search or sweep issues it at its fastest throw; the
+    re-thrown best throw would print another for its own speed)."""
+    from .simulate import StabilityWarning
+
+    shown = set()
 
     def show(message, category, filename, lineno, file=None, line=None):
+        key = StabilityWarning if issubclass(category, StabilityWarning) else str(message)
+        if key in shown:
+            return
+        shown.add(key)
         print(f"jaxskip: warning: {_with_flag(str(message), args)}", file=sys.stderr, flush=True)
 
     return show

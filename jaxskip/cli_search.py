@@ -356,8 +356,11 @@ def run_sweep_command(args) -> int:
     spec = result["spec"]
     if spec["kind"] == "umin":
         low, high = spec["speed_range"]
-        for t, u, n_low in zip(spec["tilts"], result["umin"], result["bounces_at_low"]):
-            if u is None:
+        failed = result.get("diverged") or [0] * len(spec["tilts"])
+        for t, u, n_low, n_failed in zip(spec["tilts"], result["umin"], result["bounces_at_low"], failed):
+            if n_failed:
+                shown = f"no U_min: {n_failed} of its bisection throws diverged (take a smaller --dt)"
+            elif u is None:
                 shown = f"no bounce up to {high:g} m/s"
             elif n_low > 0:
                 shown = f"U_min <= {low:g} m/s (bounces at the bracket's low end)"
@@ -384,8 +387,10 @@ def run_sweep_command(args) -> int:
         import numpy as np
 
         b = np.asarray(result["bounces"])
+        failed = np.asarray(result.get("diverged") or np.zeros(b.shape), dtype=bool)
         print(f"bounce domain at {spec['speed']:g} m/s: {int((b > 0).sum())} of {b.size} (tilt, attack) pairs bounce;"
-              f" most bounces {int(b.max())}")
+              f" most bounces {int(b.max())}" + (f"; {int(failed.sum())} diverged (their counts mean nothing: take a "
+                                                  f"smaller --dt)" if failed.any() else ""))
     if args.out:
         print(f"results: {args.out}/result.json, {args.out}/result.csv")
     if args.plot:

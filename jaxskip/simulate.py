@@ -187,6 +187,20 @@ class AccuracyWarning(UserWarning):
     """A setting is valid but outside the range whose answers have been validated."""
 
 
+class StabilityWarning(AccuracyWarning):
+    """The contact step ``dt`` is longer than the stone's stability estimate (:func:`warn_if_unstable`).
+
+    Its text names the fastest speed of the batch that raised it, so a search or sweep that runs many
+    batches would print one per batch: they issue one for the whole run instead (at its fastest throw)
+    and silence this category in their batches."""
+
+
+class DivergedWarning(RuntimeWarning):
+    """Some throw ended with outcome ``"diverged"`` (its state stopped being finite or passed
+    :data:`DIVERGED_SPEED`): its count, distance and contacts mean nothing. A search or sweep silences
+    this category in its batches and issues one for the whole run, with its own count."""
+
+
 def coarse_dt_message(dt: float) -> str | None:
     """Why a contact step ``dt`` [s] above :data:`ACCURATE_DT` gives unconverged answers (None: it does not).
 
@@ -238,7 +252,7 @@ def contact_step_bound(stone: RigidStone, water: WaterParams, speed) -> float:
 
 def warn_if_unstable(config: "SimConfig", stone: RigidStone, water: WaterParams, speed, height,
                      stacklevel: int = 3) -> None:
-    r"""Issue an :class:`AccuracyWarning` if the free stone's contact step ``config.dt`` exceeds
+    r"""Issue a :class:`StabilityWarning` (an :class:`AccuracyWarning`) if the free stone's contact step ``config.dt`` exceeds
     :func:`contact_step_bound` at the fastest it can meet the water (``speed`` [m/s] and release
     ``height`` [m], arrays of a batch's throws: :math:`\max \sqrt{V^2 + 2 g h}`), unless ``dt`` is
     above :data:`ACCURATE_DT` and the bound is not below it (:func:`warn_if_coarse` then already asks
@@ -253,7 +267,7 @@ def warn_if_unstable(config: "SimConfig", stone: RigidStone, water: WaterParams,
         warnings.warn(f"dt = {config.dt * 1e3:g} ms is longer than this stone's contact-step stability estimate, "
                       f"{bound * 1e3:.3g} ms at {fastest:.3g} m/s (jaxskip.simulate.contact_step_bound): a light, "
                       f"thin or fast stone can then gain energy in contact; take dt <= {bound * 1e3:.3g} ms",
-                      AccuracyWarning, stacklevel=stacklevel)
+                      StabilityWarning, stacklevel=stacklevel)
 
 
 def steps_for(duration: float, dt: float, multiple: int = 250) -> int:

@@ -36,6 +36,7 @@ import dataclasses
 import functools
 import numbers
 import time
+import warnings
 from collections.abc import Mapping
 
 import jax
@@ -48,9 +49,11 @@ from jaxskip._docs import document_fields
 from jaxskip._progress import ProgressLine
 from jaxskip._checks import ParameterError, check_bool, check_int, check_positive, check_range
 from jaxskip.api import checked_config, checked_water, resolve_stone
+from jaxskip.simulate import DIVERGED, AccuracyWarning, DivergedWarning
 
 from .bounds import LIMITS, PARAMETERS, Box, make_box, throw_in_box
 from .objectives import WIDTH, make_objective
+from ._runs import warn_diverged, warn_stability
 
 
 @document_fields
@@ -80,7 +83,9 @@ class SearchResult:
     unit, m per unconstrained unit with ``objective="distance"``; None where non-finite);
     ``"phase"`` (``"polish"``: a polish's entry and a local search's); ``"count_histogram"`` (grid,
     random: throws per true bounce count, indexed by the count); ``"screen"`` (a gradient search's first
-    entry, with ``screen=N``: the N screened throws' ``"points"`` and true ``"bounces"``)."""
+    entry, with ``screen=N``: the N screened throws' ``"points"`` and true ``"bounces"``); ``"diverged"``
+    (grid, random: the throws that diverged). A throw that diverged is listed with
+    :data:`DIVERGED_SCORE` (-1) as its count and distance (see ``diverged``)."""
     box: Box
     """The search's bounds (:class:`optimize.bounds.Box`, user units)."""
     wall_time: float
@@ -101,6 +106,11 @@ class SearchResult:
     objective: str = "bounces"
     """What "best" means: ``"bounces"`` (the most true bounces) or ``"distance"`` (the longest true
     distance; :func:`gradient_search` and :func:`local_search` with ``objective="distance"``)."""
+    diverged: int = 0
+    """Exact throws whose integration failed (outcome ``"diverged"``: the contact step is too long for the
+    stone and throw). Their count and distance mean nothing: the history lists them as
+    :data:`DIVERGED_SCORE` (-1 bounces, -1 m), they are never the best, and the search issues one
+    :class:`jaxskip.DivergedWarning` for them."""
 
     def to_dict(self) -> dict:
         """The result as a JSON-ready dict (``jaxskip optimize --json``), user units (m/s, deg, rev/s; times
@@ -109,7 +119,7 @@ class SearchResult:
                 "best_bounces": self.best_bounces, "best_distance": self.best_distance,
                 "history": self.history, "box": self.box.to_dict(), "wall_time": self.wall_time,
                 "forward_throws": self.forward_throws, "gradient_evals": self.gradient_evals,
-                "gradient_time": self.gradient_time, "compile_time": self.compile_time}
+                "gradient_time": self.gradient_time, "compile_time": self.compile_time, "diverged": self.diverged}
 
 
 #: Raw gradient norm (before clipping) above which :func:`gradient_health` calls a gradient exploding: the
@@ -184,14 +194,33 @@ def _full(box: Box, values: dict) -> dict:
     return out
 
 
+#: The count and distance [m] a search gives a throw that diverged (outcome ``"diverged"``: its own count and
+#: distance mean nothing): below every true value, so such a throw is never the best, and marked in the history.
+DIVERGED_SCORE = -1
+
+
 def _exact(box: Box, values: dict, stone, config: SimConfig, lanes: int | None = None,
            progress: bool = False, water=None) -> tuple[np.ndarray, np.ndarray]:
     """Exact bounce counts and distances [m] of the throws ``values`` (user units), lane-pooled
-    (:func:`simulate_batch`; ``water`` None: the force law's constants)."""
+    (:func:`simulate_batch`; ``water`` None: the force law's constants); a throw that diverged gets
+    :data:`DIVERGED_SCORE` for both. The batch's own accuracy and divergence warnings are silenced: the
+    search issues them once (:func:`_warn_stability`, :meth:`_Best.warn`)."""
     throws = box.throws_from_user(values)
-    r = simulate_batch(throws, stone, water=water, config=dataclasses.replace(config, record=False), lanes=lanes,
-                       progress=progress)
-    return r.bounces, r.distance
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", AccuracyWarning)  # (the coarse dt: checked_config warned already)
+        warnings.simplefilter("ignore", DivergedWarning)
+        r = simulate_batch(throws, stone, water=water, config=dataclasses.replace(config, record=False), lanes=lanes,
+                           progress=progress)
+    failed = np.asarray(r.outcome) == DIVERGED
+    return (np.where(failed, DIVERGED_SCORE, r.bounces),
+            np.where(failed, float(DIVERGED_SCORE), np.asarray(r.distance, dtype=float)))
+
+
+def _warn_stability(box: Box, rigid, config: SimConfig, water) -> None:
+    """One :class:`jaxskip.StabilityWarning` for a search, at the fastest throw of its box."""
+    speed = dict(box.held).get("speed")
+    speed = speed if speed is not None else next(hi for name, _, hi in box.searched if name == "speed")
+    warn_stability(config, rigid, water_params(config.force.law) if water is None else water, speed, stacklevel=4)
 
 
 def _true_counts(box: Box, values: dict, stone, config: SimConfig, lanes: int | None = None,
@@ -212,14 +241,29 @@ class _Best:
     def __init__(self, box: Box, objective: str):
         self.box, self.objective = box, objective
         self.score, self.throw, self.bounces, self.distance = -np.inf, None, -1, None
+        self.seen, self.diverged = 0, 0
 
     def update(self, values: dict, counts, distances) -> None:
         score = np.asarray(counts if self.objective == "bounces" else distances, dtype=float).ravel()
+        failed = np.asarray(counts).ravel() < 0  # DIVERGED_SCORE
+        self.seen += failed.size
+        self.diverged += int(failed.sum())
+        score = np.where(failed, -np.inf, score)
         i = int(np.argmax(score))
         if score[i] > self.score:
             self.score = float(score[i])
             self.throw = _full(self.box, {k: np.ravel(v)[i] for k, v in values.items()})
             self.bounces, self.distance = int(np.ravel(counts)[i]), float(np.ravel(distances)[i])
+
+    def warn(self, what: str, config: SimConfig) -> None:
+        """One :class:`jaxskip.DivergedWarning` for the search, if any of its exact throws diverged; a
+        :class:`jaxskip.ParameterError` naming ``dt`` if all of them did (there is no best throw)."""
+        if self.throw is None and self.seen:
+            raise ParameterError(f"every one of the {self.seen} exact throws of this {what} diverged (outcome "
+                                 f"'diverged'): config.dt = {config.dt:g} s is too long for this stone and box; "
+                                 "take a smaller dt")
+        warn_diverged(self.diverged, self.seen, what, f"they score {DIVERGED_SCORE} bounces and {DIVERGED_SCORE} m "
+                      "in its history and are never its best", config, stacklevel=3)
 
 
 def _as_box(box) -> Box:
@@ -361,6 +405,7 @@ def gradient_search(box: Box | None = None, *, objective: str = "bounces", stone
     # (the surrogate ignores record: configurations differing only there share one program)
     program_config = dataclasses.replace(config, record=False, max_steps=config.max_steps if horizon is None else horizon)
 
+    _warn_stability(box, rigid, config, water)
     rng = np.random.default_rng(seed)
     history, best, forward = [], _Best(box, objective), 0
     screened = None
@@ -423,8 +468,9 @@ def gradient_search(box: Box | None = None, *, objective: str = "bounces", stone
     if polish:
         forward += _polish(box, history, POLISH_CENTRES, polish, polish_scale, rigid, config, water, seed, progress,
                            best, iterations + 1)
+    best.warn("gradient search", config)
     return SearchResult("gradient", best.throw, best.bounces, history, box, time.perf_counter() - t0, forward,
-                        starts * iterations, t_grad, t_compile, best.distance, objective)
+                        starts * iterations, t_grad, t_compile, best.distance, objective, best.diverged)
 
 
 def _polish(box, visited, k, throws, scale, rigid, config, water, seed, progress, best: _Best, iteration) -> int:
@@ -432,8 +478,11 @@ def _polish(box, visited, k, throws, scale, rigid, config, water, seed, progress
     ``visited`` (entries with ``"points"`` and ``"bounces"``, or ``"distance"`` when ``best`` ranks by
     distance); updates ``best``, appends the polish's history entry (``"phase": "polish"``) to
     ``visited`` and returns the throws it simulated."""
-    local = local_search(box, top_throws(visited, k, best.objective), throws=throws, scale=scale, stone=rigid,
-                         config=config, water=water, seed=seed, objective=best.objective, progress=progress)
+    with warnings.catch_warnings():  # (the search warns once for all its throws, these included)
+        warnings.simplefilter("ignore", AccuracyWarning)
+        warnings.simplefilter("ignore", DivergedWarning)
+        local = local_search(box, top_throws(visited, k, best.objective), throws=throws, scale=scale, stone=rigid,
+                             config=config, water=water, seed=seed, objective=best.objective, progress=progress)
     entry = local.history[0]
     best.update(entry["points"], entry["bounces"], entry["distance"])
     if best.objective == "bounces":
@@ -525,14 +574,16 @@ def local_search(box: Box, centres: dict, *, throws: int = 256, scale: float = 0
         c = np.atleast_1d(np.asarray(centres[name], dtype=float))[pick]
         values[name] = np.clip(c + scale * (hi - lo) * rng.standard_normal(n), lo, hi)
     rigid, _ = resolve_stone(stone)
+    _warn_stability(box, rigid, config, water)
     counts, dists = _exact(box, values, rigid, config, lanes, progress, water)
     best = _Best(box, objective)
     best.update(values, counts, dists)
+    best.warn("local search", config)
     hist = [{"iteration": 0, "phase": "polish", "bounces": counts.tolist(), "distance": dists.tolist(),
              "objective": None, "best": best.bounces, "nonfinite": 0,
              "points": {k: v.tolist() for k, v in values.items()}}]
     return SearchResult("local", best.throw, best.bounces, hist, box, time.perf_counter() - t0, n, 0,
-                        best_distance=best.distance, objective=objective)
+                        best_distance=best.distance, objective=objective, diverged=best.diverged)
 
 
 def _starts_sharding(starts: int):
@@ -653,6 +704,7 @@ def perturbation_search(box: Box | None = None, *, stone="paper", config: SimCon
     check_range("sigma", sigma, 0.0, MAX_STEP, low_open=True)
     check_range("learning_rate", learning_rate, 0.0, MAX_STEP, low_open=True)
     rigid, _ = resolve_stone(stone)
+    _warn_stability(box, rigid, config, water)
     rng = np.random.default_rng(seed)
     u = box.from_user(_random_points(box, starts, rng))
     state = _init_optimizer(float_array(u), clipped=False)  # no clip: the estimates are finite counts
@@ -670,12 +722,13 @@ def perturbation_search(box: Box | None = None, *, stone="paper", config: SimCon
         best.update(values, counts, dists)
         best_n = best.bounces
         visited.append({"bounces": counts.ravel().tolist(), "points": {k: v.tolist() for k, v in values.items()}})
-        diff = (counts[:, :samples] - counts[:, samples:2 * samples]).astype(float)
+        scored = np.maximum(counts, 0)  # a diverged throw (DIVERGED_SCORE) counts as no bounce in the estimate
+        diff = (scored[:, :samples] - scored[:, samples:2 * samples]).astype(float)
         g = np.einsum("sk,skp->sp", diff, eps) / (2.0 * sigma * samples)
         u, state = _ascend_all(float_array(g), state, float_array(u), rate, clipped=False)
         u = np.asarray(u)
         centres = {k: np.asarray(v).reshape(starts, -1)[:, -1].tolist() for k, v in values.items()}
-        history.append({"iteration": it, "bounces": counts[:, -1].tolist(), "objective": counts.mean(1).tolist(),
+        history.append({"iteration": it, "bounces": counts[:, -1].tolist(), "objective": scored.mean(1).tolist(),
                         "best": best_n, "nonfinite": 0, "points": centres})
         if progress:
             line.update(f"  iteration {it + 1}/{iterations}: best {best_n} bounces")
@@ -685,8 +738,9 @@ def perturbation_search(box: Box | None = None, *, stone="paper", config: SimCon
         forward += _polish(box, visited, POLISH_CENTRES, polish, polish_scale, rigid, config, water, seed, progress,
                            best, iterations)
         history.append(visited[-1])
+    best.warn("perturbation search", config)
     return SearchResult("perturbation", best.throw, best.bounces, history, box, time.perf_counter() - t0, forward, 0,
-                        best_distance=best.distance)
+                        best_distance=best.distance, diverged=best.diverged)
 
 
 def grid_points(box: Box, per_axis: int) -> dict:
@@ -706,13 +760,17 @@ def grid_points(box: Box, per_axis: int) -> dict:
 def _exhaustive(method: str, box: Box, values: dict, stone, config: SimConfig, lanes: int, progress: bool, water):
     t0 = time.perf_counter()
     rigid, _ = resolve_stone(stone)
+    _warn_stability(box, rigid, config, water)
     counts, dists = _exact(box, values, rigid, config, lanes, progress, water)
     best = _Best(box, "bounces")
     best.update(values, counts, dists)
+    best.warn(f"{method} search", config)
+    # (the histogram of the true counts: a diverged throw has none)
     hist = [{"iteration": 0, "bounces": [best.bounces], "objective": None, "best": best.bounces,
-             "nonfinite": 0, "count_histogram": np.bincount(counts).tolist()}]
+             "nonfinite": 0, "count_histogram": np.bincount(counts[counts >= 0], minlength=1).tolist(),
+             "diverged": int(np.sum(counts < 0))}]
     return SearchResult(method, best.throw, best.bounces, hist, box, time.perf_counter() - t0, int(counts.size), 0,
-                        best_distance=best.distance)
+                        best_distance=best.distance, diverged=best.diverged)
 
 
 def grid_search(box: Box | None = None, *, per_axis: int = 10, stone="paper", config: SimConfig | None = None,

@@ -52,12 +52,14 @@ from pathlib import Path
 import jax
 import numpy as np
 
-from jaxskip import Throw, simulate_batch
+from jaxskip import Throw
 from jaxskip._checks import ParameterError, check_array, check_bool, check_int, check_range
 from jaxskip._docs import document_fields
 from jaxskip._progress import ProgressLine
 from jaxskip.settings import SIM_DEFAULTS, describe, simulation
 from jaxskip.stones import BUILTIN_STONES
+
+from ._runs import batch, silenced_batches, warn_diverged, warn_stability
 from jaxskip.throw import MAX_SPEED, MAX_SPIN_REVS
 
 from .bounds import check_interval
@@ -85,7 +87,7 @@ THROW_LIMITS = {
 }
 #: The lists of numbers each kind's chunk file holds, one entry per work item: counts (non-negative
 #: integers) and values (finite numbers or null).
-CHUNK_COUNTS = {"domain": ("bounces",), "umin": ("bounces_at_high", "bounces_at_low")}
+CHUNK_COUNTS = {"domain": ("bounces", "diverged"), "umin": ("bounces_at_high", "bounces_at_low", "diverged")}
 CHUNK_VALUES = {"domain": ("first_contact_time",), "umin": ("umin",)}
 
 
@@ -274,21 +276,24 @@ def _sim(spec: SweepSpec):
 
 
 def _batch(throws, sim, progress: bool):
+    """The batch's :class:`jaxskip.BatchResult` and its (N,) mask of diverged throws (the sweep warns once)."""
     config, water, rigid = sim
-    return simulate_batch(throws, rigid, water=water, config=config, progress=progress)
+    return batch(throws, rigid, water=water, config=config, progress=progress)
 
 
 def _domain_chunk(spec: SweepSpec, sim, index: np.ndarray, progress: bool) -> dict:
     tilt = np.asarray(spec.tilts)[index // len(spec.attacks)]
     attack = np.asarray(spec.attacks)[index % len(spec.attacks)]
     throws = Throw.from_degrees(speed=np.full(len(index), spec.speed), tilt=tilt, attack=attack, spin=spec.spin)
-    r = _batch(throws, sim, progress)
+    r, diverged = _batch(throws, sim, progress)
     t_end = r.tracker.t_end[:, 0]
     t_start = r.tracker.t_start[:, 0]
     # "first_contact_time": the first contact's duration [s] (t_end - t_start), NaN (None in the file) where
     # there was no contact or it never ended in a bounce; not the time at which it happened.
     first = np.where(np.isfinite(t_end), t_end - t_start, np.nan)
-    return {"bounces": r.bounces.tolist(), "first_contact_time": [_num(x) for x in first]}
+    # "diverged": 1 where the throw's integration failed (outcome 'diverged'): its count means nothing
+    return {"bounces": r.bounces.tolist(), "first_contact_time": [_num(x) for x in first],
+            "diverged": diverged.astype(int).tolist()}
 
 
 def _umin_chunk(spec: SweepSpec, sim, index: np.ndarray, progress: bool) -> dict:
@@ -296,9 +301,14 @@ def _umin_chunk(spec: SweepSpec, sim, index: np.ndarray, progress: bool) -> dict
     lo = np.full(len(index), spec.speed_range[0])
     hi = np.full(len(index), spec.speed_range[1])
 
+    failed = np.zeros(len(index), int)  # the tilt's bisection throws that diverged
+
     def bounces(speed):
+        nonlocal failed
         throws = Throw.from_degrees(speed=speed, tilt=tilt, attack=spec.attacks[0], spin=spec.spin)
-        return _batch(throws, sim, False).bounces
+        r, diverged = _batch(throws, sim, False)
+        failed = failed + diverged
+        return r.bounces
 
     at_high = bounces(hi)
     at_low = bounces(lo)
@@ -312,7 +322,10 @@ def _umin_chunk(spec: SweepSpec, sim, index: np.ndarray, progress: bool) -> dict
     if progress:
         line.close()
     umin = np.where(at_low > 0, spec.speed_range[0], np.where(at_high > 0, hi, np.nan))
-    return {"umin": [_num(x) for x in umin], "bounces_at_high": at_high.tolist(), "bounces_at_low": at_low.tolist()}
+    # a bisection that met a diverged throw took a step on a count that means nothing: no U_min there
+    umin = np.where(failed > 0, np.nan, umin)
+    return {"umin": [_num(x) for x in umin], "bounces_at_high": at_high.tolist(), "bounces_at_low": at_low.tolist(),
+            "diverged": failed.tolist()}
 
 
 def _num(x) -> float | None:
@@ -423,34 +436,54 @@ def run_sweep(spec: SweepSpec, out_dir=None, *, shard_index: int = 0, num_shards
         _check_spec_file(out, spec)
     chunks = _chunks(spec)
     results, computed = {}, 0
+    paths = [None if out is None else out / f"chunk-{j:05d}.json" for j in range(len(chunks))]
     if progress and out is not None:
-        kept = sum(1 for j in range(len(chunks)) if (out / f"chunk-{j:05d}.json").exists())
+        kept = sum(1 for p in paths if p.exists())
         if kept:
             print(f"  {kept} of {len(chunks)} chunks already in {str(out)!r} (kept, not recomputed)", file=sys.stderr,
                   flush=True)
-    for j, index in enumerate(chunks):
-        path = None if out is None else out / f"chunk-{j:05d}.json"
-        if path is not None and path.exists():
-            results[j] = _load_chunk(path, spec, j, index, RECOMPUTE)
-            continue
-        if j % num_shards != shard_index:
-            continue
-        if _stop_after is not None and computed >= _stop_after:
-            raise KeyboardInterrupt(f"stopped after {computed} chunks (test)")
-        if progress:
-            print(f"  chunk {j + 1}/{len(chunks)} ({len(index)} items)", file=sys.stderr, flush=True)
-        work = _domain_chunk if spec.kind == "domain" else _umin_chunk
-        data = {"chunk": j, "items": index.tolist(), **work(spec, sim, index, progress)}
-        if path is not None:
-            _write_atomic(path, json.dumps(data, sort_keys=True))
-        results[j] = data
-        computed += 1
+    if any(j % num_shards == shard_index and (p is None or not p.exists()) for j, p in enumerate(paths)):
+        # once for the run, at its fastest throw (each batch's own warning is silenced)
+        config, water, rigid = sim
+        warn_stability(config, rigid, water, spec.speed_range[1] if spec.kind == "umin" else spec.speed)
+    with silenced_batches():
+        for j, (index, path) in enumerate(zip(chunks, paths)):
+            if path is not None and path.exists():
+                results[j] = _load_chunk(path, spec, j, index, RECOMPUTE)
+                continue
+            if j % num_shards != shard_index:
+                continue
+            if _stop_after is not None and computed >= _stop_after:
+                raise KeyboardInterrupt(f"stopped after {computed} chunks (test)")
+            if progress:
+                print(f"  chunk {j + 1}/{len(chunks)} ({len(index)} items)", file=sys.stderr, flush=True)
+            work = _domain_chunk if spec.kind == "domain" else _umin_chunk
+            data = {"chunk": j, "items": index.tolist(), **work(spec, sim, index, progress)}
+            if path is not None:
+                _write_atomic(path, json.dumps(data, sort_keys=True))
+            results[j] = data
+            computed += 1
+    _warn_diverged(spec, list(results.values()), sim[0])
     if len(results) < len(chunks):
         return None
     result = assemble(spec, [results[j] for j in range(len(chunks))])
     if out is not None:
         write_results(result, out)
     return result
+
+
+def _warn_diverged(spec: SweepSpec, chunks: list[dict], config) -> None:
+    """One :class:`jaxskip.DivergedWarning` for the chunks a run holds, if any of their throws diverged."""
+    if spec.kind == "domain":
+        failed = sum(sum(c["diverged"]) for c in chunks)
+        total = sum(len(c["items"]) for c in chunks)
+        what, treatment = "domain sweep", "their counts mean nothing (1 in 'diverged' of result.json and result.csv)"
+    else:
+        failed = sum(sum(c["diverged"]) for c in chunks)
+        total = sum(len(c["items"]) for c in chunks) * (spec.iterations + 2)
+        bad = sum(1 for c in chunks for n in c["diverged"] if n)
+        what, treatment = "U_min sweep", f"{bad} tilt(s) have no U_min ('diverged' counts them per tilt)"
+    warn_diverged(failed, total, what, treatment, config, stacklevel=3)
 
 
 def _out_folder(out_dir) -> Path:
@@ -487,6 +520,9 @@ def _chunk_problem(data, spec: SweepSpec, j: int, index: np.ndarray) -> str | No
     if not isinstance(data, dict):
         return "not a JSON object"
     lacks = [k for k in ("chunk", "items", *CHUNK_COUNTS[spec.kind], *CHUNK_VALUES[spec.kind]) if k not in data]
+    if lacks == ["diverged"]:
+        return ("it was written by an earlier jaxskip, which did not record the throws that diverged (their counts "
+                "mean nothing), so it cannot be checked for them")
     if lacks:
         return f"it lacks {', '.join(map(repr, lacks))}"
     if data["chunk"] != j or data["items"] != index.tolist():
@@ -669,6 +705,11 @@ def assemble(spec: SweepSpec, chunks: list[dict]) -> dict:
     that bracket's top (a speed that bounces), so the true minimal speed lies in
     ``(umin - resolution, umin]``; where the bracket's low end already bounces
     (``bounces_at_low`` > 0), ``umin`` is that low end and the true value lies at or below it.
+
+    ``diverged``: throws whose integration failed (outcome ``"diverged"``: the contact step is too long for
+    the stone and throw): for a domain sweep 1 or 0 per grid point, (n_tilts, n_attacks), whose count then
+    means nothing; for a U_min sweep the number of the tilt's bisection throws that diverged, and such a
+    tilt's ``umin`` is None (a bisection step was taken on a count that means nothing).
     """
     def cat(key):
         return [v for c in chunks for v in c[key]]
@@ -677,7 +718,8 @@ def assemble(spec: SweepSpec, chunks: list[dict]) -> dict:
     if spec.kind == "domain":
         b = np.asarray(cat("bounces")).reshape(len(spec.tilts), len(spec.attacks))
         result.update(bounces=b.tolist(), first_contact_time=np.asarray(
-            cat("first_contact_time"), dtype=object).reshape(b.shape).tolist())
+            cat("first_contact_time"), dtype=object).reshape(b.shape).tolist(),
+            diverged=np.asarray(cat("diverged")).reshape(b.shape).tolist())
     else:
         umin = cat("umin")
         finite = [(u, t) for u, t in zip(umin, spec.tilts) if u is not None]
@@ -686,7 +728,7 @@ def assemble(spec: SweepSpec, chunks: list[dict]) -> dict:
         # Where the bracket's low end bounces, umin is only a bound (the true value is at or below it), and
         # the true minimum lies at such a tilt: no parabola through bounds.
         fit = (None, None) if any(n > 0 for n in at_low) else parabola_minimum(spec.tilts, umin)
-        result.update(umin=umin, bounces_at_high=cat("bounces_at_high"), bounces_at_low=at_low,
+        result.update(umin=umin, bounces_at_high=cat("bounces_at_high"), bounces_at_low=at_low, diverged=cat("diverged"),
                       best_tilt=best[1], best_umin=best[0], best_tilt_fit=fit[0], best_umin_fit=fit[1],
                       resolution=(spec.speed_range[1] - spec.speed_range[0]) / 2**spec.iterations)
     return result
@@ -698,18 +740,20 @@ def write_results(result: dict, out: Path) -> None:
     _write_atomic(out / "result.json", json.dumps(result, sort_keys=True, indent=1))
     rows = []
     if spec["kind"] == "domain":
-        rows.append(["tilt_deg", "attack_deg", "speed_m_s", "spin_rev_s", "bounces", "first_contact_time_s"])
+        rows.append(["tilt_deg", "attack_deg", "speed_m_s", "spin_rev_s", "bounces", "first_contact_time_s", "diverged"])
         for i, t in enumerate(spec["tilts"]):
             for k, a in enumerate(spec["attacks"]):
                 tc = result["first_contact_time"][i][k]
-                rows.append([t, a, spec["speed"], spec["spin"], result["bounces"][i][k], "" if tc is None else tc])
+                rows.append([t, a, spec["speed"], spec["spin"], result["bounces"][i][k], "" if tc is None else tc,
+                             result["diverged"][i][k]])
     else:
         # bounces_at_low > 0: the bracket's low end bounces already, umin_m_s is only an upper bound
-        rows.append(["tilt_deg", "attack_deg", "spin_rev_s", "umin_m_s", "bounces_at_high", "bounces_at_low"])
+        rows.append(["tilt_deg", "attack_deg", "spin_rev_s", "umin_m_s", "bounces_at_high", "bounces_at_low",
+                     "diverged"])
         for i, t in enumerate(spec["tilts"]):
             u = result["umin"][i]
             rows.append([t, spec["attacks"][0], spec["spin"], "" if u is None else u, result["bounces_at_high"][i],
-                         result["bounces_at_low"][i]])
+                         result["bounces_at_low"][i], result["diverged"][i]])
     from io import StringIO
 
     buf = StringIO()
@@ -864,12 +908,19 @@ def _domain_panel(fig, ax, result: dict) -> None:
         mesh = ax.pcolormesh(spec["tilts"], spec["attacks"], b.T, shading="nearest", cmap="viridis")
     cbar = fig.colorbar(mesh, ax=ax, label="true bounce count [bounces]")
     cbar.ax.yaxis.set_major_locator(MaxNLocator(integer=True))
+    handles = []
     if min(b.shape) >= 2 and (b > 0).any() and (b == 0).any():
         ax.contour(spec["tilts"], spec["attacks"], (b.T > 0).astype(float), levels=[0.5], colors="C3", linewidths=1.5)
-        edge = Line2D([], [], color="C3", lw=1.5,
-                      label="edge of the bounce domain (≥ 1 bounce), halfway between grid points")
-        ax.legend(handles=[edge],
-                  fontsize=8, loc="upper center", bbox_to_anchor=(0.5, -0.14), frameon=False)
+        handles.append(Line2D([], [], color="C3", lw=1.5,
+                              label="edge of the bounce domain (≥ 1 bounce), halfway between grid points"))
+    failed = np.asarray(result.get("diverged") or np.zeros(b.shape), dtype=bool)
+    if failed.any():
+        ti, ai = np.nonzero(failed)
+        ax.plot(np.asarray(spec["tilts"])[ti], np.asarray(spec["attacks"])[ai], "x", color="w", mec="k", ms=7)
+        handles.append(Line2D([], [], ls="", marker="x", color="k", ms=7,
+                              label="diverged (the contact step is too long): its count means nothing"))
+    if handles:
+        ax.legend(handles=handles, fontsize=8, loc="upper center", bbox_to_anchor=(0.5, -0.14), frameon=False)
     ax.set_xlabel("tilt α [deg]")
     ax.set_ylabel("impact angle β [deg]")
     ax.set_title(f"bounce domain at speed {spec['speed']:g} m/s, spin {spec['spin']:g} rev/s ({spec['stone']}, "

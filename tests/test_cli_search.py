@@ -412,3 +412,23 @@ def test_shard_flags_say_what_is_missing_or_idle(tmp_path, capsys):
     out = capsys.readouterr().out
     assert out.startswith("shard 1/2 has no chunk to compute: the sweep has only 1 (for the shards below 1)"), out
     assert not list((tmp_path / "b").glob("chunk-*.json"))
+
+
+def test_optimize_and_sweep_print_each_warning_once_and_mark_diverged_throws(tmp_path, capsys):
+    """A search or sweep printed a stability warning per batch (each at its own speed), its coarse-dt warning
+    again after every batch, and nothing of its diverged throws but per-batch indices. Now: one line each,
+    and the summary says which tilts have no U_min. A light disk at a 2 ms step: 25-50 m/s diverge."""
+    light = ["--density", "100", "--dt", "0.002", "--max-steps", "2000", "--spin", "10"]
+    assert main(["optimize", "--method", "random", "--throws", "24", "--speed-range", "10", "50", "--tilt", "20",
+                 "--attack", "10", "--stone", "clanet", "--attitude", "fixed", *light]) == 0
+    err = capsys.readouterr().err.splitlines()
+    assert sum("resolves a contact" in line for line in err) == 1  # the coarse dt
+    assert sum("throws of this random search diverged" in line for line in err) == 1
+    assert main(["sweep", "umin", "--tilts", "20,30", "--speed-range", "0.5", "40", "--iterations", "3",
+                 "--out", str(tmp_path / "s"), *light]) == 0
+    captured = capsys.readouterr()
+    assert sum("resolves a contact" in line for line in captured.err.splitlines()) == 1
+    assert sum("U_min sweep diverged" in line for line in captured.err.splitlines()) == 1
+    assert "tilt   20.0 deg: no U_min:" in captured.out and "of its bisection throws diverged" in captured.out
+    rows = (tmp_path / "s" / "result.csv").read_text().splitlines()
+    assert rows[0].endswith(",diverged") and not rows[1].endswith(",0")

@@ -480,3 +480,30 @@ def test_perturbation_search_steps_with_adam_alone_bit_for_bit():
         u_ref, s_ref = reference(g, s_ref, u_ref)
         u_new, s_new = _ascend_all(g, s_new, u_new, float_array(rate), clipped=False)
     np.testing.assert_array_equal(np.asarray(u_new), np.asarray(u_ref))
+
+
+def test_searches_never_pick_a_diverged_throw_and_warn_once():
+    """A throw whose integration failed (outcome 'diverged') was scored by its meaningless count and distance:
+    the longest 'distance' of such a search was a diverged throw's. Now it scores -1 bounces and -1 m, is
+    never the best, is counted in SearchResult.diverged, and the search issues one DivergedWarning (not one
+    per batch, with indices into the batch). A light disk at a 2 ms step, tilt held: 25-50 m/s diverge."""
+    import warnings
+
+    from jaxskip import DivergedWarning, clanet_disk, rigid_stone
+    from optimize import random_search
+
+    stone = rigid_stone(clanet_disk(), density=100.0)
+    config = SimConfig(dt=0.002, max_steps=2000, attitude="fixed")
+    box = make_box({"speed": (10.0, 50.0)}, {"tilt": 20.0, "attack": 10.0, "spin": 10.0})
+    for search in (functools.partial(random_search, throws=24, seed=3),
+                   functools.partial(local_search, centres={"speed": [30.0]}, throws=24, scale=0.5, seed=3,
+                                     objective="distance")):
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            r = search(box, stone=stone, config=config)
+        assert sum(issubclass(w.category, DivergedWarning) for w in caught) == 1
+        assert r.diverged > 0 and r.to_dict()["diverged"] == r.diverged
+        assert r.best["speed"] < 25.0  # the best throw is one that did not diverge
+        again = simulate_batch(Throw.from_degrees(speed=np.array([r.best["speed"]]), tilt=20.0, attack=10.0,
+                                                  spin=10.0), stone, config=config)
+        assert again.outcome_names[0] != "diverged" and int(again.bounces[0]) == r.best_bounces

@@ -211,12 +211,13 @@ def test_no_parabola_through_speeds_that_are_only_bounds(tmp_path):
     from optimize.sweep import assemble, write_results
 
     spec = make_spec("umin", tilts=[6.0, 12.0, 18.0, 24.0], speed_range=(1.85, 6.0), iterations=6)
-    chunk = {"umin": [2.30, 1.85, 1.85, 2.04], "bounces_at_high": [1, 1, 1, 1], "bounces_at_low": [0, 1, 1, 0]}
+    chunk = {"umin": [2.30, 1.85, 1.85, 2.04], "bounces_at_high": [1, 1, 1, 1], "bounces_at_low": [0, 1, 1, 0],
+             "diverged": [0, 0, 0, 0]}
     r = assemble(spec, [chunk])
     assert r["best_tilt_fit"] is None and r["best_umin_fit"] is None and r["best_umin"] == 1.85
     write_results(r, tmp_path)
     rows = (tmp_path / "result.csv").read_text().splitlines()
-    assert rows[0].endswith(",umin_m_s,bounces_at_high,bounces_at_low") and rows[2].endswith(",1.85,1,1")
+    assert rows[0].endswith(",umin_m_s,bounces_at_high,bounces_at_low,diverged") and rows[2].endswith(",1.85,1,1,0")
     r = assemble(spec, [dict(chunk, bounces_at_low=[0, 0, 0, 0], umin=[2.30, 1.90, 1.88, 2.04])])
     assert 12.0 < r["best_tilt_fit"] < 18.0  # measured speeds: the parabola stands
 
@@ -335,11 +336,11 @@ def _finished_umin(out):
 @pytest.mark.parametrize("text, problem", [
     ("{}", "it lacks 'chunk', 'items'"),
     ('{"bounces_at_high": [1], "bou', "not valid JSON"),                                  # truncated
-    ('{"chunk": 1, "items": [1], "umin": [1.0, 2.0], "bounces_at_high": [1], "bounces_at_low": [0]}',
+    ('{"chunk": 1, "items": [1], "umin": [1.0, 2.0], "bounces_at_high": [1], "bounces_at_low": [0], "diverged": [0]}',
      "'umin' must be a list of 1 values"),
-    ('{"chunk": 0, "items": [0], "umin": [1.0], "bounces_at_high": [1], "bounces_at_low": [0]}',
+    ('{"chunk": 0, "items": [0], "umin": [1.0], "bounces_at_high": [1], "bounces_at_low": [0], "diverged": [0]}',
      "not chunk 1 of this sweep"),
-    ('{"chunk": 1, "items": [1], "umin": ["x"], "bounces_at_high": [1], "bounces_at_low": [0]}',
+    ('{"chunk": 1, "items": [1], "umin": ["x"], "bounces_at_high": [1], "bounces_at_low": [0], "diverged": [0]}',
      "'umin' holds a value that is not a number"),
     ("[]", "not a JSON object"),
 ], ids=["empty", "truncated", "too-long", "another-chunk", "not-a-number", "not-an-object"])
@@ -529,3 +530,72 @@ def test_spec_file_is_created_once_never_replaced(tmp_path):
     assert _write_new(path, "first") and path.read_text() == "first"
     assert not _write_new(path, "second") and path.read_text() == "first"
     assert sorted(p.name for p in tmp_path.iterdir()) == ["spec.json"]  # no temporary file left
+
+
+# A light Clanet disk (100 kg/m^3) at a coarse 2 ms step, tilt held: at 25-55 m/s the integration fails
+# (outcome 'diverged'), at 10 m/s it does not (measured, float64).
+DIVERGING = dict(density=100.0, dt=0.002, max_steps=2000, spin=10.0)
+
+
+def test_domain_sweep_marks_diverged_throws_and_warns_once(tmp_path):
+    """A diverged throw's count went into result.json and result.csv like any other, with no sign of it (and
+    each batch warned with indices into itself). Now the grid point is marked 1 in 'diverged', the CSV has the
+    column, and the sweep issues one DivergedWarning counting its throws."""
+    import warnings
+
+    from jaxskip import DivergedWarning
+
+    spec = make_spec("domain", tilts=[20.0], attacks=[10.0], speed=30.0, chunk_size=1, **DIVERGING)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        r = run_sweep(spec, tmp_path / "s")
+    diverged = [w for w in caught if issubclass(w.category, DivergedWarning)]
+    assert r["diverged"] == [[1]] and len(diverged) == 1
+    assert "1 of the 1 throws of this domain sweep diverged" in str(diverged[0].message)
+    rows = (tmp_path / "s" / "result.csv").read_text().splitlines()
+    assert rows[0].endswith(",diverged") and rows[1].endswith(",1")
+    calm = run_sweep(make_spec("domain", tilts=[20.0], attacks=[10.0], speed=10.0, chunk_size=1, **DIVERGING))
+    assert calm["diverged"] == [[0]]
+
+
+def test_umin_sweep_gives_no_umin_where_its_bisection_met_a_diverged_throw():
+    """A bisection step taken on a diverged throw's count means nothing: such a tilt's U_min is None and
+    'diverged' counts its bisection throws that diverged (the bracket's top, 40 m/s, diverges at both tilts)."""
+    import warnings
+
+    from jaxskip import DivergedWarning
+
+    spec = make_spec("umin", tilts=[20.0, 30.0], speed_range=(0.5, 40.0), iterations=3, chunk_size=1, **DIVERGING)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        r = run_sweep(spec)
+    assert r["umin"] == [None, None] and all(n >= 1 for n in r["diverged"])
+    assert sum(issubclass(w.category, DivergedWarning) for w in caught) == 1
+
+
+def test_chunk_of_an_earlier_version_without_diverged_is_refused_as_such(tmp_path):
+    """A chunk file written before sweeps recorded diverged throws cannot be checked for them: refused with
+    a message that says so (not as an unexplained 'damaged' file)."""
+    spec, _ = _finished_umin(tmp_path / "s")
+    path = tmp_path / "s" / "chunk-00001.json"
+    data = json.loads(path.read_text())
+    del data["diverged"]
+    path.write_text(json.dumps(data))
+    with pytest.raises(ParameterError, match="earlier jaxskip, which did not record the throws that diverged"):
+        run_sweep(spec, tmp_path / "s")
+
+
+def test_stability_warning_is_issued_once_per_sweep_at_its_fastest_throw():
+    """Each batch of a U_min bisection warned about the contact step at its own fastest throw (two or more
+    warnings with different speeds a sweep); the sweep now warns once, at the bracket's top."""
+    import warnings
+
+    from jaxskip import StabilityWarning
+
+    spec = make_spec("umin", tilts=[20.0, 30.0], speed_range=(0.5, 8.0), iterations=3, attitude="free",
+                     density=300.0, dt=0.001, max_steps=2000)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        run_sweep(spec)
+    stability = [w for w in caught if issubclass(w.category, StabilityWarning)]
+    assert len(stability) == 1 and "at 8 m/s" in str(stability[0].message)

@@ -676,3 +676,15 @@ def test_denormal_constants_are_refused_with_their_physical_range(make, said):
     raised a bare ZeroDivisionError. The constants now have physical ranges."""
     with pytest.raises(ParameterError, match=said):
         make()
+
+
+def test_stone_at_the_density_range_edge_passes_its_own_check():
+    """rigid_stone accepted the Clanet disk at exactly 100 kg/m^3 and RigidStone.check, summing the volume again
+    from the stored triangles, refused it ('got 0.000536... kg (100 kg/m^3)'): so did `jaxskip sweep umin
+    --density 100`. The check allows rounding (DENSITY_SLACK); a density beyond the range is still refused."""
+    from jaxskip import clanet_disk, rigid_stone
+
+    rigid_stone(clanet_disk(), density=100.0).check()
+    rigid_stone(clanet_disk(), density=25000.0).check()
+    with pytest.raises(ParameterError, match="density"):
+        rigid_stone(clanet_disk(), density=99.9)
