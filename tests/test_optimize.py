@@ -483,8 +483,8 @@ def test_perturbation_search_steps_with_adam_alone_bit_for_bit():
 
 
 def test_searches_never_pick_a_diverged_throw_and_warn_once():
-    """A throw whose integration failed (outcome 'diverged') was scored by its meaningless count and distance:
-    the longest 'distance' of such a search was a diverged throw's. Now it scores -1 bounces and -1 m, is
+    """A throw whose integration failed (outcome 'diverged') was scored by its meaningless count and distance,
+    so it could be a search's best. Now it scores -1 bounces and -1 m, is
     never the best, is counted in SearchResult.diverged, and the search issues one DivergedWarning (not one
     per batch, with indices into the batch). A light disk at a 2 ms step, tilt held: 25-50 m/s diverge."""
     import warnings
