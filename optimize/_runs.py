@@ -17,20 +17,22 @@ import warnings
 import numpy as np
 
 from jaxskip import simulate_batch
-from jaxskip.simulate import DIVERGED, DivergedWarning, StabilityWarning, diverged_message, warn_if_unstable
+from jaxskip.simulate import (DIVERGED, AccuracyWarning, DivergedWarning, StabilityWarning, diverged_message,
+                              warn_if_unstable)
 
 #: Release height [m] of every throw of the searches and sweeps (``Throw.from_degrees``' default).
 RELEASE_HEIGHT = 0.001
 
 
 @contextlib.contextmanager
-def silenced_batches():
+def silenced_batches(coarse: bool = False):
     """Silence :class:`~jaxskip.StabilityWarning` and :class:`~jaxskip.DivergedWarning` for a run's batches
-    (the run issues them once). Enter it once per run, not per batch: each ``catch_warnings`` clears
-    Python's memory of "once" warnings, and the CLI's once-per-run coarse-``dt`` warning was then
-    printed for every batch."""
+    (the run issues them once); with ``coarse`` every :class:`~jaxskip.AccuracyWarning`, the coarse-``dt``
+    one included (for a caller that has issued it already). Each ``catch_warnings`` clears Python's memory
+    of "once" warnings: entered per batch without ``coarse``, the coarse-``dt`` warning came again after
+    every batch."""
     with warnings.catch_warnings():
-        warnings.simplefilter("ignore", StabilityWarning)
+        warnings.simplefilter("ignore", AccuracyWarning if coarse else StabilityWarning)
         warnings.simplefilter("ignore", DivergedWarning)
         yield
 

@@ -36,24 +36,22 @@ import dataclasses
 import functools
 import numbers
 import time
-import warnings
 from collections.abc import Mapping
 
 import jax
 import numpy as np
 import optax
 
-from jaxskip import SimConfig, WaterParams, simulate_batch, water_params
+from jaxskip import SimConfig, WaterParams, water_params
 from jaxskip._arrays import float_array, float_leaves
 from jaxskip._docs import document_fields
 from jaxskip._progress import ProgressLine
 from jaxskip._checks import ParameterError, check_bool, check_int, check_positive, check_range
 from jaxskip.api import checked_config, checked_water, resolve_stone
-from jaxskip.simulate import DIVERGED, AccuracyWarning, DivergedWarning
 
 from .bounds import LIMITS, PARAMETERS, Box, make_box, throw_in_box
 from .objectives import WIDTH, make_objective
-from ._runs import warn_diverged, warn_stability
+from ._runs import batch, silenced_batches, warn_diverged, warn_stability
 
 
 @document_fields
@@ -202,16 +200,13 @@ DIVERGED_SCORE = -1
 def _exact(box: Box, values: dict, stone, config: SimConfig, lanes: int | None = None,
            progress: bool = False, water=None) -> tuple[np.ndarray, np.ndarray]:
     """Exact bounce counts and distances [m] of the throws ``values`` (user units), lane-pooled
-    (:func:`simulate_batch`; ``water`` None: the force law's constants); a throw that diverged gets
+    (:func:`jaxskip.simulate_batch`; ``water`` None: the force law's constants); a throw that diverged gets
     :data:`DIVERGED_SCORE` for both. The batch's own accuracy and divergence warnings are silenced: the
     search issues them once (:func:`_warn_stability`, :meth:`_Best.warn`)."""
     throws = box.throws_from_user(values)
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", AccuracyWarning)  # (the coarse dt: checked_config warned already)
-        warnings.simplefilter("ignore", DivergedWarning)
-        r = simulate_batch(throws, stone, water=water, config=dataclasses.replace(config, record=False), lanes=lanes,
-                           progress=progress)
-    failed = np.asarray(r.outcome) == DIVERGED
+    with silenced_batches(coarse=True):  # (the coarse dt: checked_config warned already)
+        r, failed = batch(throws, stone, water=water, config=dataclasses.replace(config, record=False), lanes=lanes,
+                          progress=progress)
     return (np.where(failed, DIVERGED_SCORE, r.bounces),
             np.where(failed, float(DIVERGED_SCORE), np.asarray(r.distance, dtype=float)))
 
@@ -478,9 +473,7 @@ def _polish(box, visited, k, throws, scale, rigid, config, water, seed, progress
     ``visited`` (entries with ``"points"`` and ``"bounces"``, or ``"distance"`` when ``best`` ranks by
     distance); updates ``best``, appends the polish's history entry (``"phase": "polish"``) to
     ``visited`` and returns the throws it simulated."""
-    with warnings.catch_warnings():  # (the search warns once for all its throws, these included)
-        warnings.simplefilter("ignore", AccuracyWarning)
-        warnings.simplefilter("ignore", DivergedWarning)
+    with silenced_batches(coarse=True):  # (the search warns once for all its throws, these included)
         local = local_search(box, top_throws(visited, k, best.objective), throws=throws, scale=scale, stone=rigid,
                              config=config, water=water, seed=seed, objective=best.objective, progress=progress)
     entry = local.history[0]

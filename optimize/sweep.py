@@ -58,10 +58,9 @@ from jaxskip._docs import document_fields
 from jaxskip._progress import ProgressLine
 from jaxskip.settings import SIM_DEFAULTS, describe, simulation
 from jaxskip.stones import BUILTIN_STONES
-
-from ._runs import batch, silenced_batches, warn_diverged, warn_stability
 from jaxskip.throw import MAX_SPEED, MAX_SPIN_REVS
 
+from ._runs import batch, silenced_batches, warn_diverged, warn_stability
 from .bounds import check_interval
 
 #: Clanet et al.'s reference throw (physics.md §4).
@@ -474,13 +473,12 @@ def run_sweep(spec: SweepSpec, out_dir=None, *, shard_index: int = 0, num_shards
 
 def _warn_diverged(spec: SweepSpec, chunks: list[dict], config) -> None:
     """One :class:`jaxskip.DivergedWarning` for the chunks a run holds, if any of their throws diverged."""
+    failed = sum(sum(c["diverged"]) for c in chunks)
+    total = sum(len(c["items"]) for c in chunks)
     if spec.kind == "domain":
-        failed = sum(sum(c["diverged"]) for c in chunks)
-        total = sum(len(c["items"]) for c in chunks)
         what, treatment = "domain sweep", "their counts mean nothing (1 in 'diverged' of result.json and result.csv)"
     else:
-        failed = sum(sum(c["diverged"]) for c in chunks)
-        total = sum(len(c["items"]) for c in chunks) * (spec.iterations + 2)
+        total *= spec.iterations + 2  # each tilt's bisection: both bracket ends, then one throw a step
         bad = sum(1 for c in chunks for n in c["diverged"] if n)
         what, treatment = "U_min sweep", f"{bad} tilt(s) have no U_min ('diverged' counts them per tilt)"
     warn_diverged(failed, total, what, treatment, config, stacklevel=3)
