@@ -20,7 +20,7 @@ import warnings
 
 from ._checks import ParameterError, check_range
 from .body import DENSITY_RANGE
-from .forces import COEFFICIENT_MAX
+from .forces import COEFFICIENT_MAX, VELOCITIES
 from .simulate import DIVERGED_SPEED, MAX_DT, MAX_STEPS, DivergedWarning, SimConfig
 from .throw import MAX_HEADING, MAX_HEIGHT, MAX_SPEED, MAX_SPIN_REVS
 from .settings import SIM_DEFAULTS, describe, environment, simulation  # noqa: F401 (shared with cli_search)
@@ -93,8 +93,10 @@ def add_common(p, *, stone="paper", attitude="free", plot="write a picture (PNG/
     for name in ("lift", "friction"):
         p.add_argument(f"--c-{name}", type=_float(f"--c-{name}"),
                        help=f"{name} coefficient [-], in [0, {COEFFICIENT_MAX:g}] (default: the law's)")
-    p.add_argument("--velocity", choices=("body", "local"),
-                   help="velocity the water sees: centre of mass (body, default) or each triangle's v + w x r")
+    p.add_argument("--velocity", choices=VELOCITIES,
+                   help="velocity the water sees: centre of mass (body, default), each triangle's v + w x r "
+                        "(local), or the centre of mass's for the pressure and each triangle's for the loading "
+                        "(passive: the water never adds energy; Bocquet's law only)")
     p.add_argument("--attitude", choices=("free", "fixed"),
                    help=f"6-DoF (free) or tilt held (fixed) (default {attitude})")
     p.add_argument("--integrator", choices=("euler", "rk4"), help="time integrator (default euler)")

@@ -5,7 +5,8 @@ outward unit normal :math:`n_i` and velocity relative to the water :math:`V`:
 by default (``velocity="body"``) the centre-of-mass velocity :math:`V = v` for every
 triangle, spin acting only through the torques; with ``velocity="local"`` the
 triangle's own :math:`V = v + \omega \times (G_i - x)` at the centroid :math:`G_i`
-of its immersed part (see :attr:`ForceModel.velocity`).
+of its immersed part; ``velocity="passive"`` mixes the two so that the water can only take
+energy from the stone (below; see :attr:`ForceModel.velocity`).
 
 ``law="seed"`` — Do, Lee & Ryu, eqs. (1) and (2)
     .. math::
@@ -40,6 +41,22 @@ Bocquet's law the lift then points along :math:`+n_i`, not the inward normal).
 Either way the force jumps when a wet face turns through :math:`n_i\cdot V = 0`
 (switched on or off, or its lift flipped); gradients do not see such jumps, and
 they make a free stone's trajectory piecewise smooth on a fine scale.
+
+``velocity="passive"`` (Bocquet's law only) — the dynamic pressure from the centre of mass's
+velocity :math:`V = v`, the loading from each face's own :math:`w_i = v + \omega\times(G_i - x)`
+    .. math::
+        F_{L,i} = -\tfrac12 C_l\rho_w |V|^2 S_i\,\operatorname{sgn}(n_i\cdot w_i)\,n_i, \qquad
+        F_{f,i} = -\tfrac12 C_f\rho_w |V| S_i\,\hat t_i\,(\hat t_i\cdot w_i),
+        \qquad \hat t_i = V_t/|V_t|,
+
+    on faces with :math:`n_i\cdot w_i > 0` (``faces="leading"``). The water's power on the
+    stone, :math:`\sum_i F_i\cdot w_i = -\sum_i \tfrac12\rho_w S_i |V|\,[C_l |V|\,|n_i\cdot w_i|
+    + C_f (\hat t_i\cdot w_i)^2] \le 0`, is never positive, so the water cannot pump a wobble
+    (``"body"`` can: README, "The default free stone gains energy"). Without rotation
+    (:math:`w_i = V`, the tilt held included) it is ``"body"``'s law exactly. The spin's in-plane
+    speed does not enter the pressure (as with ``"body"``; ``"local"`` lifts a plate on it), and the
+    friction keeps the flow's direction :math:`\hat t_i`, so the spin's share of :math:`w_i`
+    cancels across a wetted patch in the force and only brakes the spin in the torque.
 """
 
 from __future__ import annotations
@@ -56,7 +73,7 @@ from ._checks import ParameterError, check_bool, check_choice, check_range
 
 LAWS = ("seed", "bocquet")
 FACES = ("leading", "all")
-VELOCITIES = ("local", "body")
+VELOCITIES = ("body", "local", "passive")
 
 
 #: Accepted ``ForceModel.sharpness`` κ [1/m]: ramp widths 1/κ from 1 m down to 1 µm. The smooth area is a
@@ -87,7 +104,10 @@ class ForceModel:
     ``v + ω × r``. Chosen by validation: with ``"local"`` the in-plane spin velocity (ωR ≈ 10 m/s
     for Clanet's disk at 65 rev/s) enters |V|^2 and lifts a plate that meets no flow at incidence,
     so the free disk bounces from 0.5 m/s at every tilt and the magic angle disappears; with
-    ``"body"`` the free disk at 65 rev/s reproduces the fixed-attitude (high-spin) curve."""
+    ``"body"`` the free disk at 65 rev/s reproduces the fixed-attitude (high-spin) curve.
+    ``"passive"`` (Bocquet's law only): the pressure from the centre of mass's velocity, the
+    loading from each face's own, so the water never adds energy (module docstring); with
+    the tilt held it is ``"body"``."""
     normalize_lift: bool = True
     """Seed law only: lift magnitude ``∝ cos θ`` (True, as the paper states) or ``∝ cos² θ`` (eq. 2 as printed)."""
     sharpness: float | None = None
@@ -98,6 +118,9 @@ class ForceModel:
         check_choice("law", self.law, LAWS)
         check_choice("faces", self.faces, FACES)
         check_choice("velocity", self.velocity, VELOCITIES)
+        if self.velocity == "passive" and self.law != "bocquet":
+            raise ParameterError(f"velocity='passive' is defined for law='bocquet' only, got law={self.law!r}: "
+                                 "the seed law's lift, perpendicular to V, has no passive form here")
         check_bool("normalize_lift", self.normalize_lift)
         if self.sharpness is not None:
             object.__setattr__(self, "sharpness", check_range("sharpness", self.sharpness, *SHARPNESS_RANGE,
@@ -211,7 +234,7 @@ def _safe_norm(v):
     return jnp.where(pos, jnp.sqrt(jnp.where(pos, sq, 1.0)), 0.0)
 
 
-def triangle_force(model: ForceModel, params: WaterParams, normal, area, velocity):
+def triangle_force(model: ForceModel, params: WaterParams, normal, area, velocity, own=None):
     r"""Water force on one triangle [N].
 
     Parameters
@@ -220,13 +243,17 @@ def triangle_force(model: ForceModel, params: WaterParams, normal, area, velocit
     params : :class:`WaterParams`.
     normal : (3,) outward unit normal, world frame.
     area : () immersed area :math:`S_i` [m^2].
-    velocity : (3,) velocity of the immersed part relative to the water [m/s].
+    velocity : (3,) velocity of the immersed part relative to the water [m/s]; with
+        ``model.velocity == "passive"`` the centre of mass's.
+    own : (3,) ``"passive"`` only: the immersed part's own velocity :math:`w_i` [m/s] (None: ``velocity``).
 
     Returns
     -------
     (3,) force [N] in the world frame.
     """
     V = velocity
+    if model.velocity == "passive":
+        return _passive_force(model, params, normal, area, V, V if own is None else own)
     n_v = jnp.sum(normal * V)  # |V| sin(angle of V to the face), signed
     v2 = jnp.sum(V * V)
     q = 0.5 * params.rho_water * area  # dynamic pressure factor / |V|^2
@@ -249,6 +276,23 @@ def triangle_force(model: ForceModel, params: WaterParams, normal, area, velocit
         force = lift + friction
     if model.faces == "leading":
         force = jnp.where(n_v > 0.0, force, 0.0)
+    return force
+
+
+def _passive_force(model: ForceModel, params: WaterParams, normal, area, V, w):
+    """Bocquet's law with ``velocity="passive"`` (module docstring): pressure from ``V``, loading from ``w``."""
+    n_w = jnp.sum(normal * w)
+    q = 0.5 * params.rho_water * area
+    sign = jnp.where(n_w >= 0.0, 1.0, -1.0)
+    lift = -params.c_lift * q * jnp.sum(V * V) * sign * normal
+    v_t = V - jnp.sum(normal * V) * normal
+    tt = jnp.sum(v_t * v_t)
+    ok = tt > 0.0  # (double where: a head-on flow has no direction along the face, and no friction)
+    along = jnp.where(ok, jnp.sum(v_t * w) / jnp.where(ok, tt, 1.0), 0.0)
+    friction = -params.c_friction * q * _safe_norm(V) * along * v_t
+    force = lift + friction
+    if model.faces == "leading":
+        force = jnp.where(n_w > 0.0, force, 0.0)
     return force
 
 
@@ -292,11 +336,12 @@ def body_triangle_forces(model: ForceModel, params: WaterParams, stone, position
     frac, centroid = clipping.immersed_areas_from_heights(stone.triangles, zeta, model.sharpness)
     area = frac * stone.areas
     v_body = quaternion.rotate_inverse(R, velocity)
-    if model.velocity == "local":
-        vel = v_body[None, :] + jnp.cross(quaternion.rotate_inverse(R, omega)[None, :], centroid)
+    if model.velocity == "body":
+        own = jnp.broadcast_to(v_body[None, :], centroid.shape)
     else:
-        vel = jnp.broadcast_to(v_body[None, :], centroid.shape)
-    forces = jax.vmap(lambda n, s, v: triangle_force(model, params, n, s, v))(stone.normals, area, vel)
+        own = v_body[None, :] + jnp.cross(quaternion.rotate_inverse(R, omega)[None, :], centroid)
+    vel = own if model.velocity == "local" else jnp.broadcast_to(v_body[None, :], centroid.shape)
+    forces = jax.vmap(lambda n, s, v, w: triangle_force(model, params, n, s, v, w))(stone.normals, area, vel, own)
     return forces, centroid, area
 
 
@@ -313,11 +358,11 @@ def body_water_load(model: ForceModel, params: WaterParams, stone, position, R, 
     .. math:: F = \sum_i \phi_i\,g_i, \qquad \tau = \sum_i m_i \times g_i,
 
     since the centroid is :math:`m_i/\phi_i`. No centroid is divided out (no guard, a
-    smoother reverse pass). ``velocity="local"`` needs the centroids: it goes through
+    smoother reverse pass). ``velocity="local"`` and ``"passive"`` need the centroids: they go through
     :func:`body_triangle_forces`. Returns force (3,) [N] and torque (3,) about the centre of
     mass [N m] in the world frame, and the wetted area () [m^2].
     """
-    if model.velocity == "local":
+    if model.velocity != "body":
         return body_total_force(*body_triangle_forces(model, params, stone, position, R, velocity, omega, surface), R)
     zeta = vertex_heights(stone, position, R, surface)
     frac, moment = clipping.immersed_moments_from_heights(stone.triangles, zeta, model.sharpness)

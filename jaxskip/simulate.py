@@ -523,7 +523,7 @@ def _dynamics(config: SimConfig, stone: RigidStone, water: WaterParams, surface,
     """
     fixed = config.attitude == "fixed"
     need_qdot = config.integrator != "euler" and not fixed
-    need_omega = need_qdot or (config.force.velocity == "local" and not fixed)
+    need_omega = need_qdot or (config.force.velocity != "body" and not fixed)
 
     def deriv(x, v, q, L, R=None):
         R = quat.to_matrix(q) if R is None else R

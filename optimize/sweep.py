@@ -169,7 +169,7 @@ class SweepSpec:
     c_friction: float | None
     """Friction coefficient as given (None: the law's)."""
     velocity: str
-    """``"body"`` or ``"local"`` (:class:`jaxskip.ForceModel`)."""
+    """``"body"``, ``"local"`` or ``"passive"`` (:class:`jaxskip.ForceModel`)."""
     integrator: str
     """``"euler"`` or ``"rk4"``."""
     dt: float

@@ -91,6 +91,7 @@ def test_obj_stone(tmp_path):
     (["--plot", "out.txt"], "--plot"),
     (["--trajectory", "out.txt"], "--trajectory must end in .csv or .json"),
     (["--fps", "30"], "--fps is the frame rate of --trajectory"),
+    (["--force-law", "seed", "--velocity", "passive"], "velocity='passive' is defined for law='bocquet' only"),
     (["--trajectory", "out.csv", "--fps", "0"], "--fps must be in (0, 10000] frames/s"),
 ])
 def test_bad_input_exits_2_without_traceback(args, needle):
@@ -240,6 +241,19 @@ def test_json_has_null_for_values_that_are_not_finite(capsys):
     last = out["contacts"][-1]
     assert out["outcome"] == "sank" and last["tilt_end"] is None and last["tilt_change_deg"] is None
     assert all(c["tilt_end"] is not None for c in out["contacts"][:-1])
+
+
+def test_passive_water_from_the_command_line(capsys):
+    """--velocity passive reaches the force law (the JSON says so) and changes the throw: the default throw's
+    free stone, pumped by the body law's wobble (README, "The default free stone gains energy"), skips
+    fewer times and farther with the water unable to add energy."""
+    runs = {}
+    for velocity in ("body", "passive"):
+        assert main(["throw", "--velocity", velocity, "--json"]) == 0
+        runs[velocity] = json.loads(capsys.readouterr().out)
+        assert runs[velocity]["parameters"]["velocity"] == velocity
+    assert runs["passive"]["bounces"] < runs["body"]["bounces"], (runs["passive"]["bounces"], runs["body"]["bounces"])
+    assert runs["passive"]["distance"] > 2 * runs["body"]["distance"]
 
 
 def test_coarse_dt_is_warned_about_on_stderr(capsys):

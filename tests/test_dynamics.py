@@ -380,15 +380,16 @@ def test_a_plain_scan_of_make_step_from_initial_carry_equals_rollout():
         np.testing.assert_array_equal(np.asarray(a), np.asarray(b))
 
 
-def test_water_with_local_velocities_only_takes_energy_from_a_free_stone(paper, water):
-    """Passive water cannot add energy: with each face's own velocity (``velocity="local"``) a face is
-    loaded only while it moves into the water, against that motion, so the free stone's mechanical
-    energy (translation, rotation about the centre of mass, height) never rises from one step to the
-    next over the default throw. (The default ``velocity="body"`` breaks this: README, "The default
-    free stone gains energy", 4.63 -> 7.98 J.)"""
+@pytest.mark.parametrize("velocity", ["local", "passive"])
+def test_water_with_face_velocities_only_takes_energy_from_a_free_stone(paper, water, velocity):
+    """Passive water cannot add energy: with each face's own velocity (``velocity="local"``), or with
+    it deciding the loading (``"passive"``), a face is loaded only while it moves into the water, against
+    that motion, so the free stone's mechanical energy (translation, rotation about the centre of mass,
+    height) never rises from one step to the next over the default throw. (The default
+    ``velocity="body"`` breaks this: README, "The default free stone gains energy", 4.63 -> 7.98 J.)"""
     from jaxskip import simulate
 
-    r = simulate(Throw.from_degrees(), stone=paper, water=water, config=SimConfig(force=ForceModel(velocity="local")))
+    r = simulate(Throw.from_degrees(), stone=paper, water=water, config=SimConfig(force=ForceModel(velocity=velocity)))
     tr, m = r.trajectory, float(r.rigid.mass)
     R = np.asarray(jax.vmap(quat.to_matrix)(jnp.asarray(tr["orientation"])))
     w_body = np.einsum("nji,nj->ni", R, tr["angular_velocity"])        # R^T omega
@@ -396,6 +397,23 @@ def test_water_with_local_velocities_only_takes_energy_from_a_free_stone(paper, 
     energy = 0.5 * m * np.sum(tr["velocity"] ** 2, axis=1) + m * 9.81 * tr["position"][:, 2] + rotation
     assert r.bounces >= 2 and energy[-1] < 0.5 * energy[0], (r.bounces, energy[0], energy[-1])
     assert np.max(np.diff(energy)) <= 1e-6 * energy[0], np.max(np.diff(energy))
+
+
+def test_passive_water_is_the_body_law_when_the_tilt_is_held(paper, water):
+    """With ``attitude="fixed"`` no face turns, w_i = v, and ``velocity="passive"`` is the body law: the
+    same bounces and trajectory to rounding (the body law sums moments, the passive one triangle forces);
+    on the free stone the two differ (the energy test above)."""
+    from jaxskip import simulate
+
+    throw = Throw.from_degrees(speed=5.0)
+    runs = [simulate(throw, stone=paper, water=water, config=SimConfig(attitude="fixed", max_steps=4000,
+                                                                         force=ForceModel(velocity=v)))
+            for v in ("body", "passive")]
+    assert runs[0].bounces == runs[1].bounces >= 3, [r.bounces for r in runs]
+    np.testing.assert_allclose(runs[1].trajectory["position"], runs[0].trajectory["position"], rtol=0, atol=1e-9)
+    free = simulate(throw, stone=paper, water=water, config=SimConfig(max_steps=4000, force=ForceModel(velocity="passive")))
+    n = min(len(free.trajectory["position"]), len(runs[1].trajectory["position"]))
+    assert np.max(np.abs(free.trajectory["position"][:n] - runs[1].trajectory["position"][:n])) > 1e-3
 
 
 @pytest.mark.parametrize("field", ["position", "angular_velocity"])

@@ -13,7 +13,7 @@ import jax.numpy as jnp
 import numpy as np
 import pytest
 
-from jaxskip import ForceModel, RigidStone, WaterParams
+from jaxskip import ForceModel, ParameterError, RigidStone, WaterParams
 from jaxskip.forces import body_triangle_forces, flat_surface, triangle_force, triangle_forces, water_force
 
 CL, CF, RHO = 0.7, 0.25, 998.0  # distinct, non-default values so a swapped coefficient shows
@@ -89,6 +89,15 @@ def bocquet_formula(n, V, S, cl=CL, cf=CF, rho=RHO):
     lift = -0.5 * cl * rho * speed**2 * S * n
     friction = -0.5 * cf * rho * speed * np.linalg.norm(v_t) * S * v_t / np.linalg.norm(v_t)
     return lift, friction
+
+
+def passive_formula(n, v, w, S, cl=CL, cf=CF, rho=RHO):
+    """velocity="passive": Bocquet's pressure from the centre of mass's v, the face's own w deciding the
+    lift's side (-sgn(n.w) n) and the friction's size along the flow's own direction v_t / |v_t| (its
+    component of w); the gate (n.w > 0 for leading faces) is the caller's."""
+    lift, friction = bocquet_formula(n, v, S, cl, cf, rho)
+    v_t = np.cross(n, np.cross(v, n))
+    return (lift if np.dot(n, w) >= 0 else -lift), friction * np.dot(v_t, w) / np.dot(v_t, v_t)
 
 
 def loaded(model, tri, V, omega=np.zeros(3), pos=POS_GENERIC, R=R_GENERIC):
@@ -266,6 +275,51 @@ def test_local_velocity_adds_omega_cross_r_at_the_immersed_centroid(law, tri):
     np.testing.assert_array_equal(F_body, F_still)  # ω does not enter the body law at all
 
 
+@pytest.mark.parametrize("tri", ["full", "partial"])
+@pytest.mark.parametrize("faces", ["leading", "all"])
+def test_passive_velocity_takes_the_pressure_from_v_and_the_loading_from_v_plus_omega_cross_r(tri, faces):
+    """velocity="passive" against its formula at the immersed centroid's own velocity w = v + ω × r, for a
+    spin that turns this face away from the water (n.w < 0 < n.v: unloaded with leading faces, its lift
+    reversed with all faces) and one that does not; without rotation it is the body law bit for bit."""
+    tri = FULL if tri == "full" else PARTIAL
+    S_ref, r = immersed(tri)
+    n = one_triangle_stone(tri + POS_GENERIC, OUTWARD, POS_GENERIC, R_GENERIC)[1]
+    # a spin with n.(ω × r) = ω.(r × n) = -(n.v + 1.5) turns the face away from the water (n.w = -1.5 < 0 < n.v),
+    # plus a part along r, which does not move the centroid
+    rn = np.cross(r, n)
+    flip = -(np.dot(n, V_LEAD) + 1.5) * rn / np.dot(rn, rn) + 40.0 * r / np.linalg.norm(r)
+    assert np.dot(n, V_LEAD) > 0 > np.dot(n, V_LEAD + np.cross(flip, r))
+    for omega in (flip, 0.3 * flip, np.zeros(3)):
+        w = V_LEAD + np.cross(omega, r)
+        F, c, _, _ = loaded(ForceModel(velocity="passive", faces=faces), tri, V_LEAD, omega)
+        assert_vec(c, r)
+        if faces == "leading" and np.dot(n, w) <= 0:
+            np.testing.assert_array_equal(F, 0.0)
+        else:
+            assert_vec(F, sum(passive_formula(n, V_LEAD, w, S_ref)))
+    F_body, _, _, _ = loaded(ForceModel(velocity="body", faces=faces), tri, V_LEAD, omega)
+    np.testing.assert_array_equal(F, F_body)  # (omega = 0 last)
+
+
+def test_passive_water_does_no_positive_work_on_any_face():
+    """The power F_i . w_i of the passive law on a face moving at w_i is never positive, for random
+    normals, centre-of-mass velocities v and face velocities w (the body law at the face's v: often it is);
+    a seed law with velocity="passive" is refused, naming the parameter."""
+    rng = np.random.default_rng(7)
+    n = rng.normal(size=(4000, 3))
+    n /= np.linalg.norm(n, axis=1, keepdims=True)
+    v, w = rng.normal(size=(2, 4000, 3)) * np.array([[[4.0, 1.0, 1.0]]])
+    f = lambda x: jnp.asarray(x, jnp.float64)
+    for faces in ("leading", "all"):
+        for velocity, worst in (("passive", lambda p: p.max() <= 0.0), ("body", lambda p: p.max() > 1.0)):
+            model = ForceModel(velocity=velocity, faces=faces)
+            F = jax.vmap(lambda n, v, w: triangle_force(model, params(), n, f(1e-3), v, w))(f(n), f(v), f(w))
+            power = np.sum(np.asarray(F) * w, axis=1)
+            assert worst(power), (velocity, faces, power.max())
+    with pytest.raises(ParameterError, match="velocity='passive'.*law='bocquet'"):
+        ForceModel(law="seed", velocity="passive")
+
+
 # --------------------------------------------------------------------------- e. totals over a mesh
 def polygon_clip(p):
     """Sutherland-Hodgman clip of a world triangle to z <= 0: (area, centroid)."""
@@ -287,7 +341,8 @@ def polygon_clip(p):
 
 
 MESH_CASES = [(law, faces, vel, norm) for law in ("seed", "bocquet") for faces in ("leading", "all")
-              for vel in ("body", "local") for norm in ((True, False) if law == "seed" else (True,))]
+              for vel in ("body", "local") + (("passive",) if law == "bocquet" else ())
+              for norm in ((True, False) if law == "seed" else (True,))]
 
 
 MESH_POSE = dict(R=rotation([1.0, 0.4, -0.2], 0.35), pos=np.array([0.3, 0.1, 0.002]),
@@ -332,9 +387,11 @@ def test_mesh_forces_match_the_law_triangle_by_triangle(paper, law, faces, veloc
             assert np.all(Fi[k] == 0.0)
             continue
         np.testing.assert_allclose(ci[k], c, atol=1e-12)
-        V = v + np.cross(w, c - pos) if velocity == "local" else v
+        V = v + np.cross(w, c - pos) if velocity != "body" else v
         if faces == "leading" and np.dot(normals[k], V) <= 0:
             expected = np.zeros(3)
+        elif velocity == "passive":
+            expected = sum(passive_formula(normals[k], v, V, S))
         elif law == "seed":
             expected = sum(seed_formula(normals[k], V, S, normalize))
         else:
@@ -348,8 +405,10 @@ def test_mesh_forces_match_the_law_triangle_by_triangle(paper, law, faces, veloc
 
 
 # --------------------------------------------------------------------------- f. scaling
-@pytest.mark.parametrize("law,normalize", [("seed", True), ("seed", False), ("bocquet", True)])
-@pytest.mark.parametrize("velocity", ["body", "local"])
+@pytest.mark.parametrize("law,normalize,velocity", [(law, norm, vel) for law, norm in
+                                                    [("seed", True), ("seed", False), ("bocquet", True)]
+                                                    for vel in ("body", "local", "passive")
+                                                    if law == "bocquet" or vel != "passive"])
 def test_force_scales_as_speed_squared_and_linearly_in_coefficients(paper, law, normalize, velocity):
     """F(λV, λω) = λ² F(V, ω); F is linear in C_l and C_f jointly (F(C_l, C_f) = C_l F(1, 0) + C_f F(0, 1))
     and proportional to ρ; the same for the torque."""
