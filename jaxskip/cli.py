@@ -19,6 +19,7 @@ import sys
 import warnings
 
 from ._checks import ParameterError, check_range
+from ._files import STDOUT, writing
 from .body import DENSITY_RANGE
 from .forces import COEFFICIENT_MAX, VELOCITIES
 from .simulate import DIVERGED_SPEED, MAX_DT, MAX_STEPS, DivergedWarning, SimConfig
@@ -65,10 +66,18 @@ def _version() -> str:
     return f"jaxskip {__version__} (jax {jax_version}, Python {platform.python_version()})"
 
 
+def _number(text: str) -> float:
+    """``text`` as a float, as Python's ``float()`` reads it but for digit-group underscores: ``1_0`` is a
+    typo on a command line far more often than ten. Raises ValueError."""
+    if "_" in text:
+        raise ValueError(text)
+    return float(text)
+
+
 def _float(name):
     def parse(text):
         try:
-            value = float(text)
+            value = _number(text)
         except ValueError:
             raise argparse.ArgumentTypeError(f"{name} must be a number, got {text!r}") from None
         return value
@@ -157,6 +166,14 @@ def _probe(flag: str, path, folder: str, is_file: bool) -> None:
         raise ParameterError(f"{flag} {str(path)!r}: cannot write there ({exc.strerror or exc})") from None
 
 
+def _say(text: str) -> None:
+    """Print ``text`` (one line or several) on stdout, flushed at once, so that a full disk under a
+    redirected stdout is reported as ``cannot write standard output`` here, not at the interpreter's exit."""
+    with writing(STDOUT):
+        print(text)
+        sys.stdout.flush()
+
+
 def _finite(obj):
     """``obj`` with every non-finite float (NaN, inf) replaced by None: strict JSON."""
     if isinstance(obj, float):
@@ -170,7 +187,7 @@ def _finite(obj):
 
 def print_json(obj) -> None:
     """Print one strict JSON object on stdout (values that are not finite are null)."""
-    print(json.dumps(_finite(obj), allow_nan=False))
+    _say(json.dumps(_finite(obj), allow_nan=False))
 
 
 def build_parser(argv=None) -> argparse.ArgumentParser:
@@ -328,18 +345,18 @@ def _throw(args) -> int:
         out["environment"] = environment()
         print_json(out)
     else:
-        print(_summary(result))
+        _say(_summary(result))
         if result.field:
             w = result.field
-            print(f"water: height field {w['shape'][0]}x{w['shape'][1]} columns of {w['spacing'] * 100:g} cm, "
-                  f"depth {w['depth'] * 100:g} cm, step {w['time_step'] * 1e3:g} ms, clamp {w['clamp']}; "
-                  f"window volume change {w['volume_change']:+.2e} (relative)")
+            _say(f"water: height field {w['shape'][0]}x{w['shape'][1]} columns of {w['spacing'] * 100:g} cm, "
+                 f"depth {w['depth'] * 100:g} cm, step {w['time_step'] * 1e3:g} ms, clamp {w['clamp']}; "
+                 f"window volume change {w['volume_change']:+.2e} (relative)")
         for label, key in (("picture", "plot"), ("ripples", "water_plot"), ("animation", "animate"),
                            ("trajectory", "trajectory")):
             if getattr(args, key):
-                print(f"{label}: {getattr(args, key)}")
+                _say(f"{label}: {getattr(args, key)}")
         if stone_obj:
-            print(f"the stone in the trajectory's body frame: {stone_obj}")
+            _say(f"the stone in the trajectory's body frame: {stone_obj}")
     return 0
 
 

@@ -12,8 +12,8 @@ import math
 import sys
 
 from ._checks import ParameterError, check_int
-from .cli import (PICTURES, SIM_DEFAULTS, _float, add_common, check_output, describe, environment, print_json, sim_values,
-                  simulation)
+from .cli import (PICTURES, SIM_DEFAULTS, _float, _say, add_common, check_output, describe, environment,
+                  print_json, sim_values, simulation)
 
 RANGES = (("speed", "M/S", "speed [m/s]", (3.0, 12.0)), ("tilt", "DEG", "tilt [deg]", (5.0, 45.0)),
           ("attack", "DEG", "attack [deg]", (0.0, 30.0)), ("spin", "REV/S", "spin [rev/s]", (0.0, 20.0)))
@@ -154,13 +154,15 @@ def _check_used(args, label: str, choice: str, table: dict) -> None:
 
 def _values(text: str, name: str) -> list:
     """``"A:B:N"`` -> N values from A to B; ``"A,B,C"`` -> the list (degrees). Refused, naming the flag: an
-    empty text, an empty item (``5,,10``, ``5,``), anything that is not a number, more than
+    empty text, an empty item (``5,,10``, ``5,``), anything that is not a number (``1_0`` included), more than
     :data:`optimize.sweep.MAX_ANGLES` values."""
     import numpy as np
 
     from optimize.sweep import MAX_ANGLES
 
     try:
+        if "_" in text:  # float() and int() read 1_0 as 10: a typo here
+            raise ValueError
         if ":" not in text:
             items = text.split(",")
             if any(not v.strip() for v in items):
@@ -237,33 +239,33 @@ def run_optimize(args) -> int:
         b = r.best
         what = (f"longest distance {r.best_distance:.2f} m ({r.best_bounces} bounces)" if r.objective == "distance"
                 else f"best {r.best_bounces} bounces ({r.best_distance:.2f} m)")
-        print(f"{r.method} search: {what} at speed {b['speed']:.2f} m/s, tilt "
-              f"{b['tilt']:.1f} deg, attack {b['attack']:.1f} deg, spin {b['spin']:.1f} rev/s")
-        print(f"cost: {r.forward_throws} exact throws, {r.gradient_evals} gradient evaluations, "
-              f"{r.wall_time:.1f} s wall")
-        print(f"to throw it again: {command}")
+        _say(f"{r.method} search: {what} at speed {b['speed']:.2f} m/s, tilt "
+             f"{b['tilt']:.1f} deg, attack {b['attack']:.1f} deg, spin {b['spin']:.1f} rev/s")
+        _say(f"cost: {r.forward_throws} exact throws, {r.gradient_evals} gradient evaluations, "
+             f"{r.wall_time:.1f} s wall")
+        _say(f"to throw it again: {command}")
         if single.bounces != r.best_bounces:
-            print(f"  note: that command counts {single.bounces} bounces ({single.distance:.2f} m): the search "
-                  "counted its throws in batches, whose rounding differs from one throw's, and a long throw's "
-                  "count is chaotic down to the last bit")
+            _say(f"  note: that command counts {single.bounces} bounces ({single.distance:.2f} m): the search "
+                 "counted its throws in batches, whose rounding differs from one throw's, and a long throw's "
+                 "count is chaotic down to the last bit")
         polish = [h for h in r.history if h.get("phase") == "polish"]
         if polish:
             ascent = max(h["best"] for h in r.history if h.get("phase") != "polish")
             if r.objective == "bounces":
-                print(f"  the ascent's best: {ascent} bounces; the polish ({len(polish[0]['bounces'])} exact throws "
-                      f"near its best throws): {max(polish[0]['bounces'])}")
+                _say(f"  the ascent's best: {ascent} bounces; the polish ({len(polish[0]['bounces'])} exact throws "
+                     f"near its best throws): {max(polish[0]['bounces'])}")
         if health is not None:
             fmt = lambda v: "n/a" if v is None else f"{v:.3g}"  # noqa: E731
             st = health["starts"]
-            print(f"gradient norms (unconstrained units, before clipping): median {fmt(health['median'])}, "
-                  f"max {fmt(health['max'])}; exploding (> {EXPLODING:g}) on {st['exploding']} of {st['n']} starts, "
-                  f"vanishing (< {VANISHING:g}) on {st['vanishing']}")
+            _say(f"gradient norms (unconstrained units, before clipping): median {fmt(health['median'])}, "
+                 f"max {fmt(health['max'])}; exploding (> {EXPLODING:g}) on {st['exploding']} of {st['n']} starts, "
+                 f"vanishing (< {VANISHING:g}) on {st['vanishing']}")
             if st["exploding"]:
-                print("  an exploding gradient comes from the rollout's chaos, not the count's trend: its step is "
-                      "noise (a shorter --horizon tames it; --method perturbation smooths the count instead of "
-                      "differentiating it)")
+                _say("  an exploding gradient comes from the rollout's chaos, not the count's trend: its step is "
+                     "noise (a shorter --horizon tames it; --method perturbation smooths the count instead of "
+                     "differentiating it)")
         if args.plot:
-            print(f"picture: {args.plot}")
+            _say(f"picture: {args.plot}")
     return 0
 
 
@@ -344,7 +346,7 @@ def run_sweep_command(args) -> int:
                 if args.plot:
                     print(f"jaxskip: note: {no_plot}", file=sys.stderr)
             else:
-                print(msg + (f"\n{no_plot}" if args.plot else ""))
+                _say(msg + (f"\n{no_plot}" if args.plot else ""))
             return 0
     if args.plot:
         plot_sweep(result, args.plot)
@@ -366,7 +368,7 @@ def run_sweep_command(args) -> int:
                 shown = f"U_min <= {low:g} m/s (bounces at the bracket's low end)"
             else:
                 shown = f"U_min {u:.2f} m/s"
-            print(f"tilt {t:6.1f} deg: {shown}")
+            _say(f"tilt {t:6.1f} deg: {shown}")
         if result["best_tilt"] is not None:
             u, res = result["best_umin"], result["resolution"]
             if u <= low:
@@ -379,22 +381,22 @@ def run_sweep_command(args) -> int:
                 digits = bracket_digits(res)
                 where = (f"bisection: the true U_min lies in ({u - res:.{digits}f}, {u:.{digits}f}] m/s, a bracket "
                          f"of {res:.2g} m/s")
-            print(f"magic angle: {result['best_tilt']:g} deg, U_min {u:.2f} m/s ({where})")
+            _say(f"magic angle: {result['best_tilt']:g} deg, U_min {u:.2f} m/s ({where})")
             if result["best_tilt_fit"] is not None:
-                print(f"  between grid points (parabola through its neighbours): {result['best_tilt_fit']:.1f} deg, "
-                      f"U_min {result['best_umin_fit']:.2f} m/s")
+                _say(f"  between grid points (parabola through its neighbours): {result['best_tilt_fit']:.1f} deg, "
+                     f"U_min {result['best_umin_fit']:.2f} m/s")
     else:
         import numpy as np
 
         b = np.asarray(result["bounces"])
         failed = np.asarray(result.get("diverged") or np.zeros(b.shape), dtype=bool)
-        print(f"bounce domain at {spec['speed']:g} m/s: {int((b > 0).sum())} of {b.size} (tilt, attack) pairs bounce;"
-              f" most bounces {int(b.max())}" + (f"; {int(failed.sum())} diverged (their counts mean nothing: take a "
-                                                  f"smaller --dt)" if failed.any() else ""))
+        _say(f"bounce domain at {spec['speed']:g} m/s: {int((b > 0).sum())} of {b.size} (tilt, attack) pairs bounce;"
+             f" most bounces {int(b.max())}" + (f"; {int(failed.sum())} diverged (their counts mean nothing: take a "
+                                                 f"smaller --dt)" if failed.any() else ""))
     if args.out:
-        print(f"results: {args.out}/result.json, {args.out}/result.csv")
+        _say(f"results: {args.out}/result.json, {args.out}/result.csv")
     if args.plot:
-        print(f"picture: {args.plot}")
+        _say(f"picture: {args.plot}")
     return 0
 
 

@@ -34,6 +34,7 @@ import numpy as np
 
 from . import quaternion as quat
 from ._checks import ParameterError, check_range
+from ._files import writing
 from .api import ThrowResult
 from .body import RigidStone
 from .mesh import TriMesh, write_obj
@@ -184,8 +185,9 @@ def write_trajectory(result, path, fps: float = 60.0) -> str:
     table = np.column_stack([f["time"], f["position"], f["orientation"], f["velocity"],
                              f["in_water"].astype(np.float64)])
     if path.lower().endswith(".csv"):
-        np.savetxt(path, table, delimiter=",", fmt=["%.6f"] + ["%.9g"] * 10 + ["%d"], header=",".join(COLUMNS),
-                   comments="")
+        with writing(path):
+            np.savetxt(path, table, delimiter=",", fmt=["%.6f"] + ["%.9g"] * 10 + ["%d"],
+                       header=",".join(COLUMNS), comments="")
         return obj
     keys = ("t", "x", "y", "z", "qw", "qx", "qy", "qz", "vx", "vy", "vz")
     out = {"about": about, "fps": fps, "units": dict(zip(keys + ("in_water",), ("s", "m", "m", "m", "-", "-", "-",
@@ -193,7 +195,7 @@ def write_trajectory(result, path, fps: float = 60.0) -> str:
            "stone_obj": os.path.basename(obj),
            "frames": {**{k: table[:, c].tolist() for c, k in enumerate(keys)},
                       "in_water": f["in_water"].tolist()}}
-    with open(path, "w") as fh:
+    with writing(path), open(path, "w") as fh:
         json.dump(out, fh)
     return obj
 

@@ -24,6 +24,7 @@ from pathlib import Path
 import numpy as np
 
 from ._docs import document_fields
+from ._files import writing
 from ._checks import ParameterError, check_positive
 
 __all__ = [
@@ -635,4 +636,5 @@ def write_obj(path: str | os.PathLike, mesh: TriMesh) -> None:
     lines = [f"# {title}: {len(mesh.vertices)} vertices, {mesh.n_triangles} triangles, metres"]
     lines += [f"v {float(x)!r} {float(y)!r} {float(z)!r}" for x, y, z in mesh.vertices]
     lines += [f"f {a + 1} {b + 1} {c + 1}" for a, b, c in mesh.faces.tolist()]
-    Path(path).write_text("\n".join(lines) + "\n", encoding="utf-8")
+    with writing(path):
+        Path(path).write_text("\n".join(lines) + "\n", encoding="utf-8")

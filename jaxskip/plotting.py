@@ -6,6 +6,8 @@ import math
 
 import numpy as np
 
+from ._files import writing
+
 
 def _number_contacts(side, xs, xlim, fontsize: float = 7.0, rows: int = 3, last_note: str = "") -> None:
     """Number the contacts under the water line at downrange positions ``xs`` [m].
@@ -115,7 +117,8 @@ def plot_throw(result, path=None, *, ax=None):
     if ax is None:      # axes passed in: their figure's layout is the caller's
         fig.tight_layout()
     if path is not None:
-        fig.savefig(path, dpi=130)
+        with writing(path):
+            fig.savefig(path, dpi=130)
         plt.close(fig)
     return fig
 
@@ -270,7 +273,8 @@ def plot_water(result, stone, path=None, *, frame=None):
                   "scale)", fontsize=10)
     fig.tight_layout()
     if path is not None:
-        fig.savefig(path, dpi=120, bbox_inches="tight")
+        with writing(path):
+            fig.savefig(path, dpi=120, bbox_inches="tight")
         plt.close(fig)
     return fig
 
@@ -381,7 +385,8 @@ def animate_throw(result, stone, path, *, fps: int = 20):
         fig.canvas.draw()
         images.append(Image.fromarray(np.asarray(fig.canvas.buffer_rgba())[..., :3].copy()))
     plt.close(fig)
-    images[0].save(path, save_all=True, append_images=images[1:], duration=durations, loop=0)
+    with writing(path):
+        images[0].save(path, save_all=True, append_images=images[1:], duration=durations, loop=0)
     return path
 
 

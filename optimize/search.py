@@ -45,6 +45,7 @@ import optax
 from jaxskip import SimConfig, WaterParams, water_params
 from jaxskip._arrays import float_array, float_leaves
 from jaxskip._docs import document_fields
+from jaxskip._files import writing
 from jaxskip._progress import ProgressLine
 from jaxskip._checks import ParameterError, check_bool, check_int, check_positive, check_range
 from jaxskip.api import checked_config, checked_water, resolve_stone
@@ -1034,7 +1035,8 @@ def plot_search(result: SearchResult, path) -> None:
     if not isinstance(result, SearchResult):
         raise ParameterError("result must be a SearchResult (as returned by gradient_search, perturbation_search, "
                              f"grid_search, random_search or local_search), got {type(result).__name__}")
-    _search_figure(result).savefig(path, dpi=120)
+    with writing(path):
+        _search_figure(result).savefig(path, dpi=120)
 
 
 __all__ = ["EXPLODING", "VANISHING", "SearchResult", "gradient_health", "gradient_search", "grid_points", "grid_search", "local_search", "perturbation_search",

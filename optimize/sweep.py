@@ -55,6 +55,7 @@ import numpy as np
 from jaxskip import Throw
 from jaxskip._checks import ParameterError, check_array, check_bool, check_int, check_range
 from jaxskip._docs import document_fields
+from jaxskip._files import writing
 from jaxskip._progress import ProgressLine
 from jaxskip.settings import SIM_DEFAULTS, describe, simulation
 from jaxskip.stones import BUILTIN_STONES
@@ -245,11 +246,12 @@ def make_spec(kind: str, *, tilts, attacks=(REFERENCE["attack"],), speed: float 
     if not isinstance(stone, (str, os.PathLike)):  # the spec stores it as text, to be loaded again
         raise ParameterError(f"stone must be a built-in name or an .obj path, got {type(stone).__name__} (a sweep "
                              "records its stone by name in spec.json: write a mesh with jaxskip.write_obj)")
+    stone = _stone_text(stone)
     Throw.from_degrees(speed=np.array([speed, lo, hi], dtype=float)[:, None, None], tilt=np.array(tilts)[:, None],
                        attack=np.array(attacks), spin=spin)
     sim = {**SIM_DEFAULTS, **sim, "stone": stone, "attitude": attitude}
     config, water, rigid = simulation(**sim)
-    sim.update(stone=str(stone), max_steps=config.max_steps)
+    sim.update(max_steps=config.max_steps)
     # an .obj stone is pinned by its contents too: a resume (or a shard) with another file at that path
     # would mix two stones' results
     mesh_file = {}
@@ -341,6 +343,14 @@ def _chunks(spec: SweepSpec) -> list[np.ndarray]:
     return [np.arange(i, min(i + spec.chunk_size, n)) for i in range(0, n, spec.chunk_size)]
 
 
+def _stone_text(stone) -> str:
+    """How spec.json records ``stone``: a built-in name as it is; a path normalised
+    (:func:`os.path.normpath`), so that ``./peb.obj`` and ``peb.obj`` name one sweep, not two that refuse
+    each other's folder (a path ends in ``.obj``: it never normalises to a built-in name)."""
+    text = os.fspath(stone)
+    return text if text in BUILTIN_STONES else os.path.normpath(text)
+
+
 def _write_atomic(path: Path, text: str) -> None:
     """Write ``text`` to ``path`` so that a reader never sees a partial file. Creates ``path``'s folder if
     missing, not the folders above it (:func:`_out_folder` checked that they exist).
@@ -369,7 +379,7 @@ def _temp_beside(path: Path, text: str) -> Path:
     else:  # pragma: no cover - 100 collisions of 48 random bits
         raise FileExistsError(f"cannot create a temporary file beside {str(path)!r}")
     try:
-        with os.fdopen(fd, "w") as f:
+        with writing(path), os.fdopen(fd, "w") as f:
             f.write(text)
             f.flush()
             os.fsync(f.fileno())
@@ -946,7 +956,8 @@ def plot_sweep(result: dict, path) -> None:
     ``result``: a sweep result dict as :func:`run_sweep` or :func:`merge` return it (or its
     ``result.json``); anything else is refused with :class:`~jaxskip.ParameterError`."""
     _check_sweep_result(result)
-    _sweep_figure(result).savefig(path, dpi=120)
+    with writing(path):
+        _sweep_figure(result).savefig(path, dpi=120)
 
 
 def _check_sweep_result(result) -> None:

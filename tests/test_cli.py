@@ -93,6 +93,7 @@ def test_obj_stone(tmp_path):
     (["--fps", "30"], "--fps is the frame rate of --trajectory"),
     (["--force-law", "seed", "--velocity", "passive"], "velocity='passive' is defined for law='bocquet' only"),
     (["--trajectory", "out.csv", "--fps", "0"], "--fps must be in (0, 10000] frames/s"),
+    (["--speed", "1_0"], "--speed must be a number, got '1_0'"),  # float() reads it as 10
 ])
 def test_bad_input_exits_2_without_traceback(args, needle):
     p = run("throw", *args)
@@ -156,6 +157,33 @@ def test_unwritable_pictures_are_refused_before_simulating(args, needle, tmp_pat
     assert main(["throw", *args]) == 2
     err = capsys.readouterr().err
     assert needle in err and err.count("\n") == 1
+
+
+FULL_DISK = pytest.mark.skipif(not os.path.exists("/dev/full"), reason="needs /dev/full (Linux), a disk always full")
+
+
+@FULL_DISK
+@pytest.mark.parametrize("flag, name", [("--plot", "x.png"), ("--trajectory", "t.csv"), ("--trajectory", "t.json")])
+def test_a_full_disk_names_the_output_it_could_not_write(flag, name, tmp_path, capsys):
+    """An output that opens but whose writes fail (a full disk: ENOSPC, no file name in the error) was
+    reported as "[Errno 28] No space left on device" alone, which of --plot, --trajectory and --json left to
+    guess. The path is a link to /dev/full: the write test before the throw passes, the write itself fails."""
+    (tmp_path / name).symlink_to("/dev/full")
+    assert main(["throw", "--duration", "0.05", flag, str(tmp_path / name)]) == 2
+    err = capsys.readouterr().err
+    assert err == f"jaxskip: error: [Errno 28] cannot write {str(tmp_path / name)!r}: No space left on device\n"
+
+
+@FULL_DISK
+@pytest.mark.parametrize("extra", [[], ["--json"]])
+def test_a_full_disk_under_stdout_is_named(extra):
+    """`jaxskip throw > file` on a full disk: the error says it was standard output that could not be written."""
+    env = {**os.environ, "PYTHONPATH": ROOT + os.pathsep + os.environ.get("PYTHONPATH", "")}
+    with open("/dev/full", "w") as full:
+        p = subprocess.run([sys.executable, "-m", "jaxskip", "throw", "--duration", "0.05", *extra], stdout=full,
+                           stderr=subprocess.PIPE, text=True, cwd=ROOT, env=env, timeout=300)
+    assert p.returncode == 2
+    assert p.stderr == "jaxskip: error: [Errno 28] cannot write standard output: No space left on device\n"
 
 
 def test_the_write_test_of_an_output_leaves_nothing_behind(tmp_path):

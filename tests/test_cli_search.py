@@ -61,6 +61,9 @@ ROOT = Path(__file__).resolve().parent.parent
     (["sweep", "umin", "--iterations", "1", "--tilts", "5,10,"], "--tilts must be A:B:N"),
     (["sweep", "umin", "--iterations", "1", "--tilts", " , "], "--tilts must be A:B:N"),
     (["sweep", "domain", "--attacks", "10,,20"], "--attacks must be A:B:N"),
+    # (session 30) float() and int() read digit-group underscores: 1_0 ran as 10
+    (["sweep", "umin", "--iterations", "1", "--tilts", "5,1_0"], "--tilts must be A:B:N"),
+    (["sweep", "umin", "--iterations", "1", "--tilts", "5:10:1_0"], "--tilts must be A:B:N"),
     # (session 21) a list starting with a negative number was taken for a flag ("expected one argument");
     # an empty --out wrote the sweep into the current folder
     (["sweep", "umin", "--iterations", "1", "--tilts", "-95,10"], "--tilts must be finite and in (-90, 90)"),

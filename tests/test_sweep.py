@@ -467,6 +467,26 @@ def test_an_obj_stone_is_pinned_by_its_contents(tmp_path):
     assert "stone_sha256" not in small_domain().config  # a built-in stone is pinned by its name
 
 
+def test_one_obj_stone_spelt_two_ways_is_one_sweep(tmp_path, monkeypatch):
+    """``./peb.obj`` and ``peb.obj`` (and ``sub/../peb.obj``) are one file: a sweep started with one spelling
+    resumes with another instead of refusing its own folder as a different sweep."""
+    from jaxskip import irregular_pebble, write_obj
+
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "sub").mkdir()
+    write_obj("peb.obj", irregular_pebble(seed=1))
+    settings = dict(tilts=[20.0], attacks=[20.0], speed=3.5, attitude="free", max_steps=400)
+    first = run_sweep(make_spec("domain", stone="./peb.obj", **settings), tmp_path / "s")
+    for spelling in ("peb.obj", "sub/../peb.obj", tmp_path / "sub" / ".." / "peb.obj"):
+        spec = make_spec("domain", stone=spelling, **settings)
+        if not isinstance(spelling, str):  # an absolute path is another text, and stays one
+            assert spec.config["stone"] == os.path.join(str(tmp_path), "peb.obj")
+            continue
+        assert spec.config["stone"] == "peb.obj"
+        assert run_sweep(spec, tmp_path / "s")["bounces"] == first["bounces"]
+    assert make_spec("domain", stone="paper", **settings).config["stone"] == "paper"
+
+
 def test_chunks_without_their_spec_file_are_refused(tmp_path):
     """With spec.json deleted (read as "delete this one" of the damaged-spec message) a run of another sweep
     adopted the chunk files there and reported the first sweep's numbers as its own."""

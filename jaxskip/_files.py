@@ -1,0 +1,42 @@
+"""Errors of writing a file that name the file.
+
+An error raised by ``write()`` itself, not by ``open()`` — a full disk (``ENOSPC``), a quota (``EDQUOT``),
+an I/O error — carries no file name: ``[Errno 28] No space left on device`` leaves a user of
+``jaxskip throw --plot a.png --trajectory t.csv --json`` to guess which of three outputs failed.
+:func:`writing` puts the name in.
+
+Example::
+
+    with writing(path):
+        fig.savefig(path)
+"""
+
+from __future__ import annotations
+
+import contextlib
+import errno
+import os
+
+#: What :func:`writing` calls standard output.
+STDOUT = "standard output"
+
+
+@contextlib.contextmanager
+def writing(what):
+    """Re-raise an :class:`OSError` without a file name, raised inside the block, as one that names ``what``
+    (a path, or :data:`STDOUT`): ``[Errno 28] cannot write 'a.png': No space left on device``.
+
+    Left as they are: errors that name a file already (``open()``'s), and a closed pipe (``EPIPE``: the
+    reader went away, which the CLI reports by its exit status alone)."""
+    try:
+        yield
+    except OSError as exc:
+        if exc.filename is not None or exc.errno in (None, errno.EPIPE):
+            raise
+        if what == STDOUT:
+            name = what
+        elif isinstance(what, (str, bytes, os.PathLike)):
+            name = repr(os.fsdecode(what))
+        else:  # a file object (savefig takes one)
+            name = repr(getattr(what, "name", what))
+        raise OSError(exc.errno, f"cannot write {name}: {exc.strerror or exc}") from exc
