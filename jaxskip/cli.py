@@ -20,6 +20,7 @@ import warnings
 
 from ._checks import ParameterError, check_range
 from ._files import STDOUT, writing
+from ._progress import LOG_INTERVAL
 from .body import DENSITY_RANGE
 from .forces import COEFFICIENT_MAX, VELOCITIES
 from .simulate import DIVERGED_SPEED, MAX_DT, MAX_STEPS, DivergedWarning, SimConfig
@@ -117,8 +118,17 @@ def add_common(p, *, stone="paper", attitude="free", plot="write a picture (PNG/
     p.add_argument("--max-steps", type=int, metavar="N",
                    help=f"step budget, in [1, {MAX_STEPS}] (default: enough to spend --duration in the water at "
                         f"--dt; {SimConfig().max_steps} at the defaults)")
-    p.add_argument("--json", action="store_true", help="print one JSON object on stdout (progress, shown when stderr is a terminal, goes to stderr)")
+    p.add_argument("--json", action="store_true", help="print one JSON object on stdout (progress goes to stderr)")
+    p.add_argument("--progress", action=argparse.BooleanOptionalAction,
+                   help="a progress line on stderr: --progress also when stderr is a file or a pipe (a line every "
+                        f"{LOG_INTERVAL:g} s, for a log), --no-progress never (default: on a terminal only)")
     p.add_argument("--plot", metavar="PATH", help=plot)
+
+
+def show_progress(args) -> bool:
+    """Whether to show progress on stderr: ``--progress``/``--no-progress`` if given, else whether stderr is a
+    terminal (a redirected stderr is a log, read later: ``--progress`` asks for one there too)."""
+    return sys.stderr.isatty() if args.progress is None else args.progress
 
 
 def sim_values(args) -> dict:
@@ -298,7 +308,7 @@ def _throw(args) -> int:
                                height=args.height, heading=args.heading)
     values = sim_values(args)
     config, water, stone = simulation(**values)
-    progress = sys.stderr.isatty()  # on stderr: stdout keeps its one JSON object
+    progress = show_progress(args)  # on stderr: stdout keeps its one JSON object
     field = None
     if args.water == "field":
         from .coupled import default_window

@@ -13,7 +13,7 @@ import sys
 
 from ._checks import ParameterError, check_int
 from .cli import (PICTURES, SIM_DEFAULTS, _float, _say, add_common, check_output, describe, environment,
-                  print_json, sim_values, simulation)
+                  print_json, show_progress, sim_values, simulation)
 
 RANGES = (("speed", "M/S", "speed [m/s]", (3.0, 12.0)), ("tilt", "DEG", "tilt [deg]", (5.0, 45.0)),
           ("attack", "DEG", "attack [deg]", (0.0, 30.0)), ("spin", "REV/S", "spin [rev/s]", (0.0, 20.0)))
@@ -31,7 +31,7 @@ KINDS = ("umin", "domain")
 #: ``sweep`` flags by the kinds that use them (``merge`` uses none of them: it reads the shards' spec.json).
 SWEEP_FLAGS = {"tilts": KINDS, "attacks": KINDS, "speed": ("domain",), "speed_range": ("umin",),
                "iterations": ("umin",), "spin": KINDS, "chunk_size": KINDS, "shard_index": KINDS,
-               "num_shards": KINDS, **dict.fromkeys(SIM_DEFAULTS, KINDS)}
+               "num_shards": KINDS, "progress": KINDS, **dict.fromkeys(SIM_DEFAULTS, KINDS)}
 
 
 def _only(p, table, flag, text, **kw):
@@ -215,7 +215,7 @@ def run_optimize(args) -> int:
              for d, users in METHOD_FLAGS.items() if args.method in users}
     search = {GRADIENT: gradient_search, PERTURBATION: perturbation_search, GRID: grid_search,
               RANDOM: random_search}[args.method]
-    progress = sys.stderr.isatty()  # on stderr: stdout keeps its one JSON object
+    progress = show_progress(args)  # on stderr: stdout keeps its one JSON object
     if progress and args.method == GRADIENT:
         print("compiling the gradient (once) ...", file=sys.stderr, flush=True)
     r = search(box, stone=rigid, config=config, water=water, progress=progress,
@@ -326,9 +326,10 @@ def run_sweep_command(args) -> int:
         result = merge(args.folders, args.out)
     else:
         given = {d: getattr(args, d) for d in SWEEP_FLAGS
-                 if d not in ("tilts", "attacks", "shard_index", "num_shards") and getattr(args, d) is not None}
+                 if d not in ("tilts", "attacks", "shard_index", "num_shards", "progress")
+                 and getattr(args, d) is not None}
         spec = make_spec(args.kind, tilts=tilts, attacks=attacks, **given)  # everything validated here
-        progress = sys.stderr.isatty()  # on stderr: stdout keeps its one JSON object
+        progress = show_progress(args)  # on stderr: stdout keeps its one JSON object
         # given values are checked by run_sweep (--num-shards 0 is refused, not taken for 1)
         shard = 0 if args.shard_index is None else args.shard_index
         shards = 1 if args.num_shards is None else args.num_shards

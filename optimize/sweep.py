@@ -465,7 +465,8 @@ def run_sweep(spec: SweepSpec, out_dir=None, *, shard_index: int = 0, num_shards
             if _stop_after is not None and computed >= _stop_after:
                 raise KeyboardInterrupt(f"stopped after {computed} chunks (test)")
             if progress:
-                print(f"  chunk {j + 1}/{len(chunks)} ({len(index)} items)", file=sys.stderr, flush=True)
+                what = ("tilt" if spec.kind == "umin" else "grid point") + ("" if len(index) == 1 else "s")
+                print(f"  chunk {j + 1}/{len(chunks)} ({len(index)} {what})", file=sys.stderr, flush=True)
             work = _domain_chunk if spec.kind == "domain" else _umin_chunk
             data = {"chunk": j, "items": index.tolist(), **work(spec, sim, index, progress)}
             if path is not None:

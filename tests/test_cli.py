@@ -323,6 +323,21 @@ def test_json_on_a_terminal_keeps_progress_on_stderr(monkeypatch, capsys):
     assert "simulated" in err and "{" not in err
 
 
+def test_progress_flags_override_the_terminal_test(monkeypatch, capsys):
+    """Progress was shown on a terminal only, so a long run logged with ``2> log`` said nothing until it
+    ended. ``--progress`` writes it to a file or a pipe too (one line at most every LOG_INTERVAL seconds,
+    the last always); ``--no-progress`` silences a terminal."""
+    monkeypatch.setattr(sys.stderr, "isatty", lambda: False)
+    argv = ["throw", "--duration", "0.05"]
+    assert main(argv) == 0 and capsys.readouterr().err == ""
+    assert main(argv + ["--progress"]) == 0
+    err = capsys.readouterr().err
+    assert "\r" not in err and err.endswith("\n") and "simulated" in err.splitlines()[-1]
+    monkeypatch.setattr(sys.stderr, "isatty", lambda: True)
+    assert main(argv + ["--no-progress"]) == 0 and capsys.readouterr().err == ""
+    assert main(argv) == 0 and "simulated" in capsys.readouterr().err
+
+
 def test_the_table_counts_every_contact_left_out(capsys):
     """Past 40 rows the table says how many contacts follow, counted from all contacts, not from the
     logged ones (SimConfig.max_contacts = 64): a 71-contact throw said "... 24 more" instead of 31."""

@@ -211,6 +211,18 @@ def test_bad_sweep_settings_write_nothing(bad, tmp_path, capsys):
     assert not out.exists() and "Traceback" not in capsys.readouterr().err
 
 
+def test_a_logged_sweep_shows_its_progress_with_the_flag(tmp_path, monkeypatch, capsys):
+    """``jaxskip sweep ... --progress 2> log``: the chunks' progress is written to a stderr that is not a
+    terminal (it was silent there); a merge, which computes nothing, refuses the flag."""
+    monkeypatch.setattr(sys.stderr, "isatty", lambda: False)
+    argv = ["sweep", "umin", "--tilts", "20", "--iterations", "1", "--duration", "0.3", "--out", str(tmp_path / "s")]
+    assert main(argv + ["--progress"]) == 0
+    err = capsys.readouterr().err
+    assert "\r" not in err and "1/1" in err
+    assert main(["sweep", "merge", str(tmp_path / "s"), "--out", str(tmp_path / "m"), "--no-progress"]) == 2
+    assert "--progress is not used by sweep merge" in capsys.readouterr().err
+
+
 def test_optimize_gradient_reports_gradient_norms(tmp_path, capsys, monkeypatch):
     """Gradient-norm monitoring at the CLI: a line of text (and a picture panel), a JSON summary."""
     argv = ["optimize", "--method", "gradient", "--starts", "2", "--iterations", "1", "--attitude", "fixed",
