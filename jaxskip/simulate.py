@@ -1005,6 +1005,17 @@ def _check_rollout_args(config, throw, stone, water) -> None:
                              f"{tuple(np.shape(stone.mass))}: jax.vmap over a batch of stones")
 
 
+def _one_float_type(*trees):
+    """``trees`` with every floating leaf in JAX's float type (float32, or float64 under
+    ``jax_enable_x64``), the type the step's own constants take: a float32 throw made before x64 was switched
+    on met a raw ``lax.cond`` "branches must have equal output types" error while tracing. A no-op for
+    leaves of that type already."""
+    dtype = jax.dtypes.canonicalize_dtype(np.float64)
+    cast = lambda a: (a.astype(dtype) if hasattr(a, "dtype") and jnp.issubdtype(a.dtype, jnp.floating)  # noqa: E731
+                      and a.dtype != dtype else a)
+    return tuple(jax.tree_util.tree_map(cast, t) for t in trees)
+
+
 def rollout(config: SimConfig, throw: Throw, stone: RigidStone, water: WaterParams, surface=flat_surface):
     """Simulate one throw for ``config.max_steps`` steps: pure, jit/vmap/grad-able.
 
@@ -1012,6 +1023,9 @@ def rollout(config: SimConfig, throw: Throw, stone: RigidStone, water: WaterPara
     :class:`Tracker` and, if ``config.record``, a :class:`Record` with a leading
     axis of ``max_steps`` (else ``None``). A stone still in play when the steps
     run out gets outcome ``step_limit``.
+
+    Floating leaves of ``throw``, ``stone`` and ``water`` are cast to JAX's float type (float32, or float64
+    under ``jax_enable_x64``), in which the step computes.
 
     ``throw`` is one throw (every field of shape ``()``; ``jax.vmap`` over a batch) and is not
     validated here, so that the function can be traced: check concrete throws first
@@ -1034,6 +1048,7 @@ def rollout(config: SimConfig, throw: Throw, stone: RigidStone, water: WaterPara
     (True, 'sank')
     """
     _check_rollout_args(config, throw, stone, water)
+    throw, stone, water = _one_float_type(throw, stone, water)
     step = make_step(config, surface)
     (state, tr), recs = _scan(config, step, initial_carry(config, throw, stone), stone, water)
     return state, tr.finish(), (recs if config.record else None)

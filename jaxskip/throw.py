@@ -93,7 +93,13 @@ class Throw:
         except ValueError:
             raise ParameterError("the throw's parameters must broadcast to one batch shape, got "
                                  + ", ".join(f"{k} {a.shape}" for k, a in fields.items())) from None
-        return cls(**{k: float_array(np.broadcast_to(a, shape)) for k, a in fields.items()})
+        stored = {k: float_array(np.broadcast_to(a, shape)) for k, a in fields.items()}
+        speed = np.asarray(stored["speed"])
+        if not np.all(speed > 0):  # in (0, 100] as given, 0 as stored: refused by simulate with a value never given
+            given = float(np.broadcast_to(fields["speed"], shape)[~(speed > 0)].flat[0])
+            raise ParameterError(f"speed must be finite and in (0, {MAX_SPEED:g}] m/s, got {given!r}, which is 0 in "
+                                 f"{speed.dtype} (the float type JAX runs in)")
+        return cls(**stored)
 
     @classmethod
     def from_degrees(cls, speed=8.0, tilt=20.0, attack=5.0, spin=20.0, height=0.001, heading=0.0) -> "Throw":
@@ -115,6 +121,15 @@ class Throw:
         """Check a throw built without :meth:`create` (e.g. ``Throw(...)`` or ``dataclasses.replace``)
         as :meth:`create` does; returns it unchanged. Needs concrete values: :func:`jaxskip.simulate`
         and :func:`jaxskip.simulate_batch` call it before tracing."""
+        for f in dataclasses.fields(self):
+            value = getattr(self, f.name)
+            if isinstance(value, jax.core.Tracer):
+                raise ParameterError(f"throw.{f.name} is a traced value (inside jit, vmap or grad): simulate and "
+                                     "simulate_batch check concrete throws and run their own compiled loop; to "
+                                     "trace or differentiate a throw use jaxskip.rollout (jax.vmap it for a batch)")
+            if isinstance(value, (list, tuple)):  # a pytree of its own: jax.tree_util would split it up
+                raise ParameterError(f"throw.{f.name} must be a number or an array, got a {type(value).__name__} "
+                                     "(Throw.create and Throw.from_degrees take lists and make the arrays)")
         values = {f.name: np.asarray(getattr(self, f.name)) for f in dataclasses.fields(self)}
         shapes = {k: v.shape for k, v in values.items()}
         if len(set(shapes.values())) > 1:

@@ -10,6 +10,8 @@ so that an unconstrained optimiser never leaves the box:
 
 from __future__ import annotations
 
+from collections.abc import Mapping
+
 import dataclasses
 import math
 
@@ -127,10 +129,20 @@ class Box:
     def to_throw(self, u) -> Throw:
         """Unconstrained ``u`` (..., P) -> a :class:`Throw` inside the box (SI), released 1 mm above the
         water (``height``) heading along +x, as every search throws (:func:`throw_in_box` of this box)."""
+        self._check_columns(u)
         return throw_in_box(self.layout, u, *self.numbers())
+
+    def _check_columns(self, u) -> None:
+        """Refuse a ``u`` whose last axis is not one column per searched parameter (a shape is static, so
+        this holds for traced ``u`` too): with a column short, indexing clamped and tilt reused speed's."""
+        shape = tuple(np.shape(u))
+        if not shape or shape[-1] != len(self.names):
+            raise ParameterError(f"u must have shape (..., {len(self.names)}): one column per searched parameter "
+                                 f"({', '.join(self.names)}), got shape {shape}")
 
     def to_user(self, u) -> dict:
         """Unconstrained ``u`` (..., P) -> user-unit values of the searched parameters (host floats)."""
+        self._check_columns(u)
         u = np.asarray(u, dtype=float)
         return {name: lo + (hi - lo) / (1.0 + np.exp(-u[..., i])) for i, (name, lo, hi) in enumerate(self.searched)}
 
@@ -206,6 +218,10 @@ def make_box(searched=None, held=None) -> Box:
     >>> make_box({"speed": (3.0, 12.0)}, {"tilt": 20.0}).searched
     (('speed', 3.0, 12.0),)
     """
+    for label, value in (("searched", searched), ("held", held)):
+        if value is not None and not isinstance(value, Mapping):
+            raise ParameterError(f"{label} must be a dict ({'{name: (low, high)}' if label == 'searched' else '{name: value}'}"
+                                 f" in user units), got {type(value).__name__}")
     searched = dict(HUMAN_BOX if searched is None else searched)
     held = dict(held or {})
     for name in list(searched) + list(held):

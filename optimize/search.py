@@ -495,6 +495,9 @@ def top_throws(history: list, k: int, objective: str = "bounces") -> dict:
     """
     k = check_int("k", k, minimum=1)
     key = _check_objective(objective)
+    if not isinstance(history, (list, tuple)) or not all(isinstance(h, dict) for h in history):
+        raise ParameterError("history must be a search's history, a list of dicts (SearchResult.history), got "
+                             f"{type(history).__name__}")
     names = list(history[0]["points"]) if history and "points" in history[0] else []
     if not names:
         raise ParameterError("history has no points: top_throws needs a gradient_search history")
@@ -550,6 +553,13 @@ def local_search(box: Box, centres: dict, *, throws: int = 256, scale: float = 0
     seed = _check_seed(seed)
     n = check_int("throws", throws, minimum=1, maximum=MAX_THROWS)
     check_range("scale", scale, 0.0, 1.0, low_open=True)
+    if not isinstance(centres, Mapping):
+        raise ParameterError(f"centres must be a dict {{parameter: (m,) array}} of the searched parameters "
+                             f"({', '.join(box.names)}), got {type(centres).__name__}")
+    held = sorted(set(centres) & set(dict(box.held)))
+    if held:  # (dropped silently before, even tilt 99 deg)
+        raise ParameterError(f"centres gives {', '.join(held)}, held by the box, not searched: drop it from centres, "
+                             "or search it (make_box({name: (low, high)}))")
     m = None
     for name, lo, hi in box.searched:
         if name not in centres:
@@ -568,6 +578,7 @@ def local_search(box: Box, centres: dict, *, throws: int = 256, scale: float = 0
         c = np.atleast_1d(np.asarray(centres[name], dtype=float))[pick]
         values[name] = np.clip(c + scale * (hi - lo) * rng.standard_normal(n), lo, hi)
     rigid, _ = resolve_stone(stone)
+    water = None if water is None else checked_water(water)
     _warn_stability(box, rigid, config, water)
     counts, dists = _exact(box, values, rigid, config, lanes, progress, water)
     best = _Best(box, objective)
@@ -698,6 +709,7 @@ def perturbation_search(box: Box | None = None, *, stone="paper", config: SimCon
     check_range("sigma", sigma, 0.0, MAX_STEP, low_open=True)
     check_range("learning_rate", learning_rate, 0.0, MAX_STEP, low_open=True)
     rigid, _ = resolve_stone(stone)
+    water = None if water is None else checked_water(water)
     _warn_stability(box, rigid, config, water)
     rng = np.random.default_rng(seed)
     u = box.from_user(_random_points(box, starts, rng))
@@ -754,6 +766,7 @@ def grid_points(box: Box, per_axis: int) -> dict:
 def _exhaustive(method: str, box: Box, values: dict, stone, config: SimConfig, lanes: int, progress: bool, water):
     t0 = time.perf_counter()
     rigid, _ = resolve_stone(stone)
+    water = None if water is None else checked_water(water)
     _warn_stability(box, rigid, config, water)
     counts, dists = _exact(box, values, rigid, config, lanes, progress, water)
     best = _Best(box, "bounces")

@@ -332,6 +332,39 @@ def test_top_throws_are_distinct_and_best_first():
     np.testing.assert_array_equal(top["speed"], [6.0, 5.0, 4.0])
     with pytest.raises(ParameterError, match="no points"):
         top_throws([{"bounces": [1]}], 1)
+    with pytest.raises(ParameterError, match="history must be a search's history"):  # was a raw TypeError
+        top_throws(5, 2)
+
+
+def test_a_box_refuses_u_without_one_column_per_searched_parameter():
+    """A column short, JAX's clamped indexing made tilt reuse speed's coordinate; extra columns were ignored
+    (to_user raised a raw IndexError). The shape is static: refused inside jit too."""
+    box = make_box({"speed": (3.0, 12.0), "tilt": (5.0, 45.0)}, {"attack": 5.0, "spin": 20.0})
+    assert box.to_throw(jnp.zeros((4, 2))).shape == (4,)
+    for bad in (jnp.zeros((4, 1)), jnp.zeros((4, 3)), jnp.zeros(())):
+        with pytest.raises(ParameterError, match=r"u must have shape \(\.\.\., 2\).*speed, tilt"):
+            box.to_throw(bad)
+        with pytest.raises(ParameterError, match=r"u must have shape"):
+            box.to_user(np.asarray(bad))
+    with pytest.raises(ParameterError, match=r"u must have shape"):
+        jax.jit(lambda u: box.to_throw(u).speed)(jnp.zeros((4, 1)))
+    with pytest.raises(ParameterError, match="searched must be a dict"):  # was a raw ValueError
+        make_box([("speed", 3.0, 12.0)])
+    with pytest.raises(ParameterError, match="held must be a dict"):
+        make_box({"speed": (3.0, 12.0)}, [("tilt", 20.0)])
+
+
+@pytest.mark.parametrize("search, kwargs", [("random_search", {"throws": 2}), ("grid_search", {"per_axis": 2}),
+                                            ("local_search", {"throws": 2}), ("perturbation_search", {}),
+                                            ("gradient_search", {})])
+def test_every_search_checks_its_water(search, kwargs):
+    """Four of the five searches met a raw AttributeError ('dict' object has no attribute 'gravity')."""
+    import optimize
+
+    box = make_box({"speed": (6.0, 8.0)}, {"tilt": 20.0, "attack": 5.0, "spin": 20.0})
+    args = (box, {"speed": [7.0]}) if search == "local_search" else (box,)
+    with pytest.raises(ParameterError, match="water must be a jaxskip.WaterParams"):
+        getattr(optimize, search)(*args, water={"gravity": 9.81}, **kwargs)
 
 
 @pytest.mark.parametrize("centres, kwargs, message", [
@@ -339,6 +372,9 @@ def test_top_throws_are_distinct_and_best_first():
     ({}, {}, "missing 'speed'"),
     ({"speed": [5.0]}, {"scale": 0.0}, "scale"),
     ({"speed": [5.0]}, {"throws": 0}, "throws"),
+    # (session 31) a raw TypeError; a held parameter's centre (even tilt 99 deg) was dropped silently
+    (None, {}, "centres must be a dict"),
+    ({"speed": [5.0], "tilt": [99.0]}, {}, "centres gives tilt, held by the box"),
 ])
 def test_local_search_bad_input(centres, kwargs, message):
     box = make_box({"speed": (3.0, 10.0)}, held={"tilt": 20.0, "attack": 10.0, "spin": 15.0})

@@ -688,3 +688,55 @@ def test_stone_at_the_density_range_edge_passes_its_own_check():
     rigid_stone(clanet_disk(), density=25000.0).check()
     with pytest.raises(ParameterError, match="density"):
         rigid_stone(clanet_disk(), density=99.9)
+
+
+def test_a_throw_of_lists_or_of_traced_values_is_refused_by_name():
+    """Throw(...) of Python lists passed check() and met a raw IndexError in simulate_batch (jax.tree_util
+    splits a list up); simulate under jax.grad met JAX's TracerArrayConversionError in check()."""
+    import jax
+
+    from jaxskip import simulate_batch
+
+    t = Throw([5.5, 6.5], [0.3, 0.3], [0.1, 0.1], [100.0, 100.0], [0.001, 0.001], [0.0, 0.0])
+    with pytest.raises(ParameterError, match="throw.speed must be a number or an array, got a list"):
+        simulate_batch(t)
+    config = SimConfig(max_steps=100, duration=0.05)
+    with pytest.raises(ParameterError, match="throw.speed is a traced value.*use jaxskip.rollout"):
+        jax.grad(lambda s: simulate(Throw(s, 0.3, 0.1, 100.0, 0.001, 0.0), config=config).distance)(5.0)
+
+
+def test_a_speed_that_rounds_to_zero_is_refused_where_it_is_given(monkeypatch):
+    """In float32, speed=1e-46 m/s passed the (0, 100] check and was stored as 0, which simulate then refused
+    as "got 0.0", a value the user never gave. (float32 storage stood in for by the host cast.)"""
+    import numpy as np
+
+    import jaxskip.throw
+
+    monkeypatch.setattr(jaxskip.throw, "float_array", lambda x: np.asarray(x, dtype=np.float32))
+    with pytest.raises(ParameterError, match=r"got 1e-46, which is 0 in float32"):
+        Throw.from_degrees(speed=1e-46)
+    assert float(Throw.from_degrees(speed=1e-30).speed) > 0.0
+
+
+def test_rollout_takes_a_float32_throw_under_x64():
+    """A throw made in float32 (before jax_enable_x64 was switched on, as a notebook may) with a float64 stone
+    met a raw lax.cond "branches must have equal output types" TypeError while tracing. rollout computes in
+    JAX's float type: the same as the float64 throw of the same (rounded) values."""
+    import jax
+    import jax.numpy as jnp
+    import numpy as np
+
+    from jaxskip import rollout_jit
+
+    stone, water, config = rigid_stone(paper_stone(), density=2650.0), water_params(), SimConfig(max_steps=300,
+                                                                                                  record=False)
+    f32 = jax.tree_util.tree_map(lambda a: jnp.asarray(a, jnp.float32), Throw.from_degrees())
+    back = jax.tree_util.tree_map(lambda a: jnp.asarray(a, jnp.float64), f32)
+    for throw, s, w in ((f32, stone, water), (f32, *jax.tree_util.tree_map(lambda a: jnp.asarray(a, jnp.float32),
+                                                                          (stone, water)))):
+        state, tracker, _ = rollout_jit(config, throw, s, w)
+        assert state.position.dtype == jnp.float64
+    ref, ref_tracker, _ = rollout_jit(config, back, stone, water)
+    state, tracker, _ = rollout_jit(config, f32, stone, water)
+    np.testing.assert_array_equal(np.asarray(state.position), np.asarray(ref.position))
+    assert int(tracker.bounces) == int(ref_tracker.bounces)
