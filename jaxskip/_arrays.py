@@ -12,9 +12,14 @@ import jax
 import numpy as np
 
 
+def float_dtype() -> np.dtype:
+    """JAX's default float dtype now: float64 under ``jax_enable_x64``, else float32."""
+    return jax.dtypes.canonicalize_dtype(np.float64)
+
+
 def float_array(x) -> jax.Array:
     """``x`` (array-like) as a device array of JAX's default float dtype; no compile, no weak type."""
-    return jax.device_put(np.asarray(x, dtype=jax.dtypes.canonicalize_dtype(np.float64)))
+    return jax.device_put(np.asarray(x, dtype=float_dtype()))
 
 
 def float_leaves(tree):

@@ -22,7 +22,7 @@ import numpy as np
 
 from ._docs import document_fields
 from . import quaternion
-from ._arrays import float_array
+from ._arrays import float_array, float_dtype
 from ._checks import ParameterError, check_array
 
 MAX_SPEED = 100.0
@@ -93,13 +93,13 @@ class Throw:
         except ValueError:
             raise ParameterError("the throw's parameters must broadcast to one batch shape, got "
                                  + ", ".join(f"{k} {a.shape}" for k, a in fields.items())) from None
-        stored = {k: float_array(np.broadcast_to(a, shape)) for k, a in fields.items()}
-        speed = np.asarray(stored["speed"])
+        # checked in NumPy at the stored precision: float_array inside a jit trace gives a tracer
+        speed = np.asarray(np.broadcast_to(fields["speed"], shape), dtype=float_dtype())
         if not np.all(speed > 0):  # in (0, 100] as given, 0 as stored: refused by simulate with a value never given
             given = float(np.broadcast_to(fields["speed"], shape)[~(speed > 0)].flat[0])
             raise ParameterError(f"speed must be finite and in (0, {MAX_SPEED:g}] m/s, got {given!r}, which is 0 in "
                                  f"{speed.dtype} (the float type JAX runs in)")
-        return cls(**stored)
+        return cls(**{k: float_array(np.broadcast_to(a, shape)) for k, a in fields.items()})
 
     @classmethod
     def from_degrees(cls, speed=8.0, tilt=20.0, attack=5.0, spin=20.0, height=0.001, heading=0.0) -> "Throw":

@@ -300,6 +300,11 @@ def test_review_fixes_session_16():
     # a traced value in a validating constructor: a ParameterError that says what to do
     with pytest.raises(ParameterError, match="traced value.*build the throw with Throw"):
         jax.jit(lambda s: Throw.create(speed=s).speed)(8.0)
+    # constant arguments inside a trace are fine, and dataclasses.replace can put a traced speed in
+    # (notebooks/stability.py differentiates this way; session 31's speed-rounds-to-0 check broke it)
+    import dataclasses
+    g = jax.jit(jax.grad(lambda v: dataclasses.replace(Throw.from_degrees(), speed=v).speed ** 2))(3.0)
+    assert float(g) == pytest.approx(6.0)
     with pytest.raises(ParameterError, match="tilt must be a real number"):
         Throw.from_degrees(tilt=[[1.0, 2.0], [3.0]])
     # the gradient search checks its config before compiling anything
@@ -707,12 +712,12 @@ def test_a_throw_of_lists_or_of_traced_values_is_refused_by_name():
 
 def test_a_speed_that_rounds_to_zero_is_refused_where_it_is_given(monkeypatch):
     """In float32, speed=1e-46 m/s passed the (0, 100] check and was stored as 0, which simulate then refused
-    as "got 0.0", a value the user never gave. (float32 storage stood in for by the host cast.)"""
+    as "got 0.0", a value the user never gave. (float32 storage stood in for by the dtype the check casts to.)"""
     import numpy as np
 
     import jaxskip.throw
 
-    monkeypatch.setattr(jaxskip.throw, "float_array", lambda x: np.asarray(x, dtype=np.float32))
+    monkeypatch.setattr(jaxskip.throw, "float_dtype", lambda: np.dtype(np.float32))
     with pytest.raises(ParameterError, match=r"got 1e-46, which is 0 in float32"):
         Throw.from_degrees(speed=1e-46)
     assert float(Throw.from_degrees(speed=1e-30).speed) > 0.0
