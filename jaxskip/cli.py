@@ -68,22 +68,29 @@ def _version() -> str:
 
 
 def _number(text: str) -> float:
-    """``text`` as a float, as Python's ``float()`` reads it but for digit-group underscores: ``1_0`` is a
-    typo on a command line far more often than ten. Raises ValueError."""
-    if "_" in text:
+    """``text`` as a float, as Python's ``float()`` reads it but for digit-group underscores and non-ASCII
+    digits: ``1_0`` is a typo on a command line far more often than ten, and ``float()`` reads full-width
+    digits too. Raises ValueError."""
+    if "_" in text or not text.isascii():
         raise ValueError(text)
     return float(text)
 
 
-def _float(name):
-    def parse(text):
-        try:
-            value = _number(text)
-        except ValueError:
-            raise argparse.ArgumentTypeError(f"{name} must be a number, got {text!r}") from None
-        return value
+def _float(text: str) -> float:
+    """argparse ``type`` for a decimal flag: :func:`_number`, or argparse's one-line error, which names the
+    flag itself (``argument --speed: must be a number, got '1_0'``)."""
+    try:
+        return _number(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"must be a number, got {text!r}") from None
 
-    return parse
+
+def _int(text: str) -> int:
+    """argparse ``type`` for a count flag: ASCII digits with an optional sign, nothing else (``int()`` also reads
+    ``1_0`` as 10, full-width digits and surrounding spaces)."""
+    if not re.fullmatch(r"[+-]?[0-9]+", text):
+        raise argparse.ArgumentTypeError(f"must be a whole number, got {text!r}")
+    return int(text)
 
 
 def add_common(p, *, stone="paper", attitude="free", plot="write a picture (PNG/PDF/SVG)"):
@@ -95,13 +102,13 @@ def add_common(p, *, stone="paper", attitude="free", plot="write a picture (PNG/
                         f"an .obj file in metres (default {stone})")
     m = p.add_mutually_exclusive_group()
     density = f"[{DENSITY_RANGE[0]:g}, {DENSITY_RANGE[1]:g}]"
-    m.add_argument("--mass", type=_float("--mass"), metavar="KG",
+    m.add_argument("--mass", type=_float, metavar="KG",
                    help=f"stone mass [kg], such that the density is in {density} kg/m^3 (default: from the density)")
-    m.add_argument("--density", type=_float("--density"), metavar="KG/M3",
+    m.add_argument("--density", type=_float, metavar="KG/M3",
                    help=f"stone density [kg/m^3], in {density} (default: the stone's own)")
     p.add_argument("--force-law", choices=("bocquet", "seed"), help="water force law (default bocquet)")
     for name in ("lift", "friction"):
-        p.add_argument(f"--c-{name}", type=_float(f"--c-{name}"),
+        p.add_argument(f"--c-{name}", type=_float,
                        help=f"{name} coefficient [-], in [0, {COEFFICIENT_MAX:g}] (default: the law's)")
     p.add_argument("--velocity", choices=VELOCITIES,
                    help="velocity the water sees: centre of mass (body, default), each triangle's v + w x r "
@@ -110,12 +117,12 @@ def add_common(p, *, stone="paper", attitude="free", plot="write a picture (PNG/
     p.add_argument("--attitude", choices=("free", "fixed"),
                    help=f"6-DoF (free) or tilt held (fixed) (default {attitude})")
     p.add_argument("--integrator", choices=("euler", "rk4"), help="time integrator (default euler)")
-    p.add_argument("--duration", type=_float("--duration"), metavar="S",
-                   help="simulated time limit [s], > 0 (default 5)")
-    p.add_argument("--dt", type=_float("--dt"), metavar="S",
+    p.add_argument("--duration", type=_float, metavar="S",
+                   help="simulated time limit [s], >= --dt (default 5)")
+    p.add_argument("--dt", type=_float, metavar="S",
                    help=f"time step in contact [s], in (0, {MAX_DT:g}] (default 2.5e-4; above 1e-3 answers are "
                         "unconverged: a warning says so)")
-    p.add_argument("--max-steps", type=int, metavar="N",
+    p.add_argument("--max-steps", type=_int, metavar="N",
                    help=f"step budget, in [1, {MAX_STEPS}] (default: enough to spend --duration in the water at "
                         f"--dt; {SimConfig().max_steps} at the defaults)")
     p.add_argument("--json", action="store_true", help="print one JSON object on stdout (progress goes to stderr)")
@@ -146,6 +153,9 @@ def check_output(flag: str, path, suffixes=None) -> None:
     if suffixes and not str(path).lower().endswith(suffixes):
         ends = " or ".join(filter(None, [", ".join(suffixes[:-1]), suffixes[-1]]))
         raise ParameterError(f"{flag} must end in {ends}, got {path!r}")
+    if suffixes and not os.path.splitext(os.path.basename(path))[1]:  # '.pdf': matplotlib wrote '.pdf.png'
+        raise ParameterError(f"{flag} needs a file name before its suffix, such as 'out{os.path.basename(path)}', "
+                             f"got {path!r}")
     folder = os.path.dirname(os.path.abspath(path))
     if not os.path.isdir(folder):
         raise ParameterError(f"{flag} {path!r}: the folder {folder!r} does not exist")
@@ -210,19 +220,19 @@ def build_parser(argv=None) -> argparse.ArgumentParser:
     p.commands = sub.choices  # name -> the command's parser (its errors point to its own --help)
     t = sub.add_parser("throw", help="simulate one throw (flat water, or a coupled height field: --water field)",
                        description="Simulate one throw. With no options: a good default throw that skips many times.")
-    t.add_argument("--speed", type=_float("--speed"), default=8.0, metavar="M/S",
+    t.add_argument("--speed", type=_float, default=8.0, metavar="M/S",
                    help=f"speed [m/s], in (0, {MAX_SPEED:g}] (default 8)")
-    t.add_argument("--tilt", type=_float("--tilt"), default=20.0, metavar="DEG",
+    t.add_argument("--tilt", type=_float, default=20.0, metavar="DEG",
                    help="face angle to the water, leading edge up [deg], in (-90, 90) (default 20)")
-    t.add_argument("--attack", type=_float("--attack"), default=5.0, metavar="DEG",
+    t.add_argument("--attack", type=_float, default=5.0, metavar="DEG",
                    help="velocity angle below the horizontal [deg], in [-90, 90] (default 5)")
-    t.add_argument("--spin", type=_float("--spin"), default=20.0, metavar="REV/S",
+    t.add_argument("--spin", type=_float, default=20.0, metavar="REV/S",
                    help=f"spin about the face normal [rev/s], + is counter-clockwise seen from above, in "
                         f"[{-MAX_SPIN_REVS:g}, {MAX_SPIN_REVS:g}] (default 20)")
-    t.add_argument("--height", type=_float("--height"), default=0.001, metavar="M",
+    t.add_argument("--height", type=_float, default=0.001, metavar="M",
                    help=f"clearance of the lowest point above the water at release [m], in [0, {MAX_HEIGHT:g}] "
                         "(default 0.001)")
-    t.add_argument("--heading", type=_float("--heading"), default=0.0, metavar="DEG",
+    t.add_argument("--heading", type=_float, default=0.0, metavar="DEG",
                    help=f"direction of travel [deg], counter-clockwise from +x seen from above, in "
                         f"[-{MAX_HEADING:g}, {MAX_HEADING:g}] (default 0)")
     add_common(t, plot="write the side view (PNG/PDF/SVG)")
@@ -237,7 +247,7 @@ def build_parser(argv=None) -> argparse.ArgumentParser:
                    help="write the motion as evenly spaced frames for animation or other tools: time, position, "
                         "quaternion (w, x, y, z), velocity, in water (SI); the stone in the body frame the "
                         "quaternions rotate goes beside it (PATH.stone.obj)")
-    t.add_argument("--fps", type=_float("--fps"), default=None, metavar="N",
+    t.add_argument("--fps", type=_float, default=None, metavar="N",
                    help="(--trajectory) frames per second, in (0, 10000] (default 60)")
     from .cli_search import add_parsers
 
@@ -278,10 +288,25 @@ def _summary(result) -> str:
     return "\n".join(lines)
 
 
+def _distinct_outputs(args, flags) -> None:
+    """Refuse two output flags that name one file: the second would overwrite the first's output."""
+    seen = {}
+    for flag in flags:
+        path = getattr(args, flag[2:].replace("-", "_"))
+        if path is None:
+            continue
+        key = os.path.normcase(os.path.realpath(path))
+        if key in seen:
+            raise ParameterError(f"{flag} and {seen[key]} name the same file, {path!r}: the second would overwrite "
+                                 "the first; give each its own path")
+        seen[key] = flag
+
+
 def _throw(args) -> int:
     for flag, suffixes in (("--plot", PICTURES), ("--water-plot", PICTURES), ("--animate", (".gif",))):
         check_output(flag, getattr(args, flag[2:].replace("-", "_")), suffixes)
     check_output("--trajectory", args.trajectory, (".csv", ".json"))
+    _distinct_outputs(args, ("--plot", "--water-plot", "--animate", "--trajectory"))
     if args.trajectory:
         from .export import stone_path
 

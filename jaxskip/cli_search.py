@@ -12,7 +12,7 @@ import math
 import sys
 
 from ._checks import ParameterError, check_int
-from .cli import (PICTURES, SIM_DEFAULTS, _float, _say, add_common, check_output, describe, environment,
+from .cli import (PICTURES, SIM_DEFAULTS, _float, _int, _say, add_common, check_output, describe, environment,
                   print_json, show_progress, sim_values, simulation)
 
 RANGES = (("speed", "M/S", "speed [m/s]", (3.0, 12.0)), ("tilt", "DEG", "tilt [deg]", (5.0, 45.0)),
@@ -76,34 +76,35 @@ def add_parsers(sub, ranges: bool = True) -> None:
     for name, meta, text, (lo, hi) in RANGES:
         low, high, _ = LIMITS[name]
         g = o.add_mutually_exclusive_group()
-        g.add_argument(f"--{name}-range", nargs=2, type=_float(f"--{name}-range"), metavar=("LOW", "HIGH"),
+        g.add_argument(f"--{name}-range", nargs=2, type=_float, metavar=("LOW", "HIGH"),
                        help=f"search {text} in [LOW, HIGH], within [{low:g}, {high:g}] (default {lo:g} {hi:g})")
-        g.add_argument(f"--{name}", type=_float(f"--{name}"), metavar=meta,
+        g.add_argument(f"--{name}", type=_float, metavar=meta,
                        help=f"hold {text} at this value, in [{low:g}, {high:g}]")
     o.add_argument("--method", choices=METHODS, default=GRADIENT,
                    help="gradient (optax on the smooth count, default), perturbation (randomised smoothing), "
                         "grid or random (exhaustive baselines)")
     _only(o, METHOD_FLAGS, "--objective", "what the gradient search ascends (default bounces: the smooth count)",
           choices=("bounces", "distance"))
-    _only(o, METHOD_FLAGS, "--starts", f"random starts, in {span('starts')} (default 8)", type=int, metavar="N")
-    _only(o, METHOD_FLAGS, "--iterations", f"optimiser steps, in {span('iterations')} (default 20)", type=int,
+    _only(o, METHOD_FLAGS, "--starts", f"random starts, in {span('starts')} (default 8)", type=_int, metavar="N")
+    _only(o, METHOD_FLAGS, "--iterations", f"optimiser steps, in {span('iterations')} (default 20)", type=_int,
           metavar="N")
     _only(o, METHOD_FLAGS, "--learning-rate", f"Adam step in the unconstrained coordinates [-], in (0, {MAX_STEP:g}] (default 0.3)",
-          type=_float("--learning-rate"), metavar="LR")
+          type=_float, metavar="LR")
     _only(o, METHOD_FLAGS, "--polish", f"exact throws sampled near the best throws found, after the ascent, in "
           f"{span('polish')} (default {METHOD_DEFAULTS['polish']}; 0: none). The free stone's count is chaotic: "
-          "sampling near the ascent's best usually finds more than the ascent", type=int, metavar="N")
+          "sampling near the ascent's best usually finds more than the ascent", type=_int, metavar="N")
     _only(o, METHOD_FLAGS, "--screen", f"random exact throws simulated first, the best --starts of them the "
-          f"ascent's starts, in {span('screen')} (default {METHOD_DEFAULTS['screen']}; 0: random starts). A random "
-          "start often sinks at once, where the surrogate is flat and the ascent never moves", type=int, metavar="N")
+          f"ascent's starts, in {span('screen')} (default {METHOD_DEFAULTS['screen']} or --starts, whichever is more; "
+          "0: random starts). A random "
+          "start often sinks at once, where the surrogate is flat and the ascent never moves", type=_int, metavar="N")
     _only(o, METHOD_FLAGS, "--samples", f"antithetic pairs of exact throws per start and iteration, in "
-          f"{span('samples')} (default 8)", type=int, metavar="N")
+          f"{span('samples')} (default 8)", type=_int, metavar="N")
     _only(o, METHOD_FLAGS, "--horizon", "steps the surrogate is differentiated through, in [1, --max-steps] "
-          "(default: the whole rollout)", type=int, metavar="STEPS")
+          "(default: the whole rollout)", type=_int, metavar="STEPS")
     _only(o, METHOD_FLAGS, "--per-axis", f"grid points per searched parameter, in {span('per_axis')}, at most "
-          f"{points} grid points in all (default {METHOD_DEFAULTS['per_axis']})", type=int, metavar="N")
-    _only(o, METHOD_FLAGS, "--throws", f"random throws, in {span('throws')} (default 1000)", type=int, metavar="N")
-    _only(o, METHOD_FLAGS, "--seed", "random seed, >= 0 (default 0)", type=int)
+          f"{points} grid points in all (default {METHOD_DEFAULTS['per_axis']})", type=_int, metavar="N")
+    _only(o, METHOD_FLAGS, "--throws", f"random throws, in {span('throws')} (default 1000)", type=_int, metavar="N")
+    _only(o, METHOD_FLAGS, "--seed", "random seed, >= 0 (default 0)", type=_int)
     add_common(o)
 
     s = sub.add_parser("sweep", help="magic-angle sweeps: U_min(tilt) or the bounce domain", description=(
@@ -120,21 +121,21 @@ def add_parsers(sub, ranges: bool = True) -> None:
           "comma list (default 5:60:12)", metavar="A:B:N|A,B,...")
     _only(s, SWEEP_FLAGS, "--attacks", f"attack angles, each in {limit_text('attack')}: as --tilts "
           "(default 20 for umin, 0:60:13 for domain)", metavar="A:B:N|A,B,...")
-    _only(s, SWEEP_FLAGS, "--speed", f"speed, in {limit_text('speed')} (default 3.5)", type=_float("--speed"),
+    _only(s, SWEEP_FLAGS, "--speed", f"speed, in {limit_text('speed')} (default 3.5)", type=_float,
           metavar="M/S")
     _only(s, SWEEP_FLAGS, "--speed-range", f"bisection bracket, within {limit_text('speed')} (default 0.5 8)",
-          nargs=2, type=_float("--speed-range"), metavar=("LOW", "HIGH"))
-    _only(s, SWEEP_FLAGS, "--iterations", f"bisection steps, in {span('bisections')} (default 10)", type=int,
+          nargs=2, type=_float, metavar=("LOW", "HIGH"))
+    _only(s, SWEEP_FLAGS, "--iterations", f"bisection steps, in {span('bisections')} (default 10)", type=_int,
           metavar="N")
-    _only(s, SWEEP_FLAGS, "--spin", f"spin, in {limit_text('spin')} (default 65)", type=_float("--spin"),
+    _only(s, SWEEP_FLAGS, "--spin", f"spin, in {limit_text('spin')} (default 65)", type=_float,
           metavar="REV/S")
     s.add_argument("--out", metavar="DIR", help="folder (its parent must exist) for chunk files and "
                    "result.json/result.csv; re-running resumes there")
     _only(s, SWEEP_FLAGS, "--chunk-size", "work items per chunk file, >= 1: tilts (umin) or grid points (domain) "
-          "(default: ceil(items / 8), at least 256 grid points for domain)", type=int, metavar="N")
+          "(default: ceil(items / 8), at least 256 grid points for domain)", type=_int, metavar="N")
     _only(s, SWEEP_FLAGS, "--shard-index", "this machine's shard, in [0, N-1] for --num-shards N (default 0; "
-          "needs --out)", type=int, metavar="I")
-    _only(s, SWEEP_FLAGS, "--num-shards", "machines sharing the sweep, >= 1 (default 1; needs --out)", type=int,
+          "needs --out)", type=_int, metavar="I")
+    _only(s, SWEEP_FLAGS, "--num-shards", "machines sharing the sweep, >= 1 (default 1; needs --out)", type=_int,
           metavar="N")
     add_common(s, stone="clanet", attitude="fixed")
 
@@ -161,7 +162,7 @@ def _values(text: str, name: str) -> list:
     from optimize.sweep import MAX_ANGLES
 
     try:
-        if "_" in text:  # float() and int() read 1_0 as 10: a typo here
+        if "_" in text or not text.isascii():  # float() and int() read 1_0 as 10 and full-width digits: typos here
             raise ValueError
         if ":" not in text:
             items = text.split(",")
@@ -178,6 +179,13 @@ def _values(text: str, name: str) -> list:
     if n > MAX_ANGLES:
         raise ParameterError(f"{name} A:B:N must have N <= {MAX_ANGLES}, got {text!r}")
     return np.linspace(a, b, n).round(10).tolist()
+
+
+def _default(function, name: str):
+    """The default of ``function``'s keyword ``name`` (read from its signature, not copied here)."""
+    import inspect
+
+    return inspect.signature(function).parameters[name].default
 
 
 def run_optimize(args) -> int:
@@ -213,6 +221,13 @@ def run_optimize(args) -> int:
     config, water, rigid = simulation(**values)  # validated before compiling
     given = {d: METHOD_DEFAULTS.get(d) if getattr(args, d) is None else getattr(args, d)
              for d, users in METHOD_FLAGS.items() if args.method in users}
+    if args.method == GRADIENT:  # the screen picks the starts: at least as many throws as --starts
+        starts = given["starts"] if given["starts"] is not None else _default(gradient_search, "starts")
+        if args.screen is None:
+            given["screen"] = max(METHOD_DEFAULTS["screen"], starts)
+        elif 0 < given["screen"] < starts:
+            raise ParameterError(f"--screen must be 0 or at least --starts ({starts}): the starts are the best of "
+                                 f"the screened throws; got {given['screen']}")
     search = {GRADIENT: gradient_search, PERTURBATION: perturbation_search, GRID: grid_search,
               RANDOM: random_search}[args.method]
     progress = show_progress(args)  # on stderr: stdout keeps its one JSON object

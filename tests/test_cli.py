@@ -93,7 +93,12 @@ def test_obj_stone(tmp_path):
     (["--fps", "30"], "--fps is the frame rate of --trajectory"),
     (["--force-law", "seed", "--velocity", "passive"], "velocity='passive' is defined for law='bocquet' only"),
     (["--trajectory", "out.csv", "--fps", "0"], "--fps must be in (0, 10000] frames/s"),
-    (["--speed", "1_0"], "--speed must be a number, got '1_0'"),  # float() reads it as 10
+    (["--speed", "1_0"], "argument --speed: must be a number, got '1_0'"),  # float() reads it as 10
+    # (session 32, a CLI review) each was accepted, or its message named the flag twice
+    (["--speed", "\uff11\uff10"], "argument --speed: must be a number"),  # full-width 10: float() reads it
+    (["--max-steps", "1_0"], "argument --max-steps: must be a whole number, got '1_0'"),
+    (["--plot", "out/.png"], "--plot needs a file name before its suffix"),
+    (["--water", "field", "--plot", "a.png", "--water-plot", "./a.png"], "--water-plot and --plot name the same file"),
 ])
 def test_bad_input_exits_2_without_traceback(args, needle):
     p = run("throw", *args)

@@ -37,8 +37,12 @@ ROOT = Path(__file__).resolve().parent.parent
     (["optimize", "--method", "random", "--objective", "distance"], "--objective is not used by --method random"),
     (["optimize", "--method", "grid", "--seed", "1"], "--seed is not used by --method grid"),
     (["optimize", "--throws", "10"], "--throws is not used by --method gradient (only by random)"),
-    (["optimize", "--screen", "3"], "--screen must be 0 or at least starts (8): the starts are the best of the "
+    (["optimize", "--screen", "3"], "--screen must be 0 or at least --starts (8): the starts are the best of the "
                                     "screened throws; got 3"),
+    # (session 32, a CLI review) each of these was accepted, or its message named no flag
+    (["optimize", "--starts", "100", "--screen", "70"], "--screen must be 0 or at least --starts (100)"),
+    (["optimize", "--plot", ".pdf"], "--plot needs a file name before its suffix, such as 'out.pdf', got '.pdf'"),
+    (["sweep", "umin", "--tilts", "\uff11\uff10"], "--tilts must be A:B:N"),
     (["optimize", "--method", "perturbation", "--screen", "64"], "--screen is not used by --method perturbation"),
     (["sweep", "umin", "--speed", "3"], "--speed is not used by sweep umin (only by domain)"),
     (["sweep", "domain", "--iterations", "3"], "--iterations is not used by sweep domain (only by umin)"),
@@ -82,6 +86,37 @@ def test_bad_input_exits_2(argv, word, capsys):
     assert main(argv) == 2
     err = capsys.readouterr().err
     assert word in err and "Traceback" not in err and err.count("\n") == 1
+
+
+def test_default_screen_grows_to_the_starts(monkeypatch):
+    """The screen picks the ascent's starts from its throws: with --starts above the default screen (64) and
+    no --screen, the screen is --starts (it was 64, and ``--starts 100`` alone was refused)."""
+    import optimize
+
+    class Called(Exception):
+        pass
+
+    def fake(box, *, starts=8, screen=0, **kw):
+        raise Called(starts, screen)
+
+    monkeypatch.setattr(optimize, "gradient_search", fake)
+    for argv, want in ((["--starts", "100"], (100, 100)), ([], (8, 64)), (["--starts", "3", "--screen", "0"], (3, 0))):
+        with pytest.raises(Called) as e:
+            main(["optimize", "--no-progress", *argv])
+        assert e.value.args == want, argv
+
+
+@pytest.mark.parametrize("argv, word", [
+    (["optimize", "--method", "random", "--throws", "1_6"], "argument --throws: must be a whole number, got '1_6'"),
+    (["optimize", "--starts", "\uff18"], "argument --starts: must be a whole number"),  # a full-width 8: int() reads it
+    (["sweep", "umin", "--chunk-size", " 4"], "argument --chunk-size: must be a whole number, got ' 4'"),
+])
+def test_count_flags_take_plain_digits_only(argv, word, capsys):
+    """(session 32) argparse's int() read 1_6 as 16 and full-width digits as digits: argparse's one-line error."""
+    with pytest.raises(SystemExit) as e:
+        main(argv)
+    err = capsys.readouterr().err
+    assert e.value.code == 2 and word in err and err.count("\n") == 1, err
 
 
 def test_bare_sweep_asks_for_the_kind_only(capsys):
