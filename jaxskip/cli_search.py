@@ -178,7 +178,9 @@ def _values(text: str, name: str) -> list:
                              f"5,10,20 (no empty items), got {text!r}") from None
     if n > MAX_ANGLES:
         raise ParameterError(f"{name} A:B:N must have N <= {MAX_ANGLES}, got {text!r}")
-    return np.linspace(a, b, n).round(10).tolist()
+    # rounded so that 5:10:6 gives 5, 6, ... (not 6.000000000000001), but never past A or B: 89.99999999999
+    # rounds to 90, outside the tilts' open range
+    return np.linspace(a, b, n).round(10).clip(min(a, b), max(a, b)).tolist()
 
 
 def _default(function, name: str):

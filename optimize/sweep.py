@@ -57,6 +57,7 @@ from jaxskip._checks import ParameterError, check_array, check_bool, check_int, 
 from jaxskip._docs import document_fields
 from jaxskip._files import writing
 from jaxskip._progress import ProgressLine
+from jaxskip.forces import DEFAULT_COEFFICIENTS
 from jaxskip.settings import SIM_DEFAULTS, describe, simulation
 from jaxskip.stones import BUILTIN_STONES
 from jaxskip.throw import MAX_SPEED, MAX_SPIN_REVS
@@ -166,9 +167,9 @@ class SweepSpec:
     force_law: str
     """``"bocquet"`` or ``"seed"``."""
     c_lift: float | None
-    """Lift coefficient as given (None: the law's)."""
+    """Lift coefficient as given (None: the law's calibrated value, given or not)."""
     c_friction: float | None
-    """Friction coefficient as given (None: the law's)."""
+    """Friction coefficient as given (None: the law's calibrated value, given or not)."""
     velocity: str
     """``"body"``, ``"local"`` or ``"passive"`` (:class:`jaxskip.ForceModel`)."""
     integrator: str
@@ -252,6 +253,11 @@ def make_spec(kind: str, *, tilts, attacks=(REFERENCE["attack"],), speed: float 
     sim = {**SIM_DEFAULTS, **sim, "stone": stone, "attitude": attitude}
     config, water, rigid = simulation(**sim)
     sim.update(max_steps=config.max_steps)
+    # a coefficient given at the law's calibrated value is the default said aloud: stored as the default
+    # (None), so that the same sweep resumes whether or not it was given (--c-lift 1 was another sweep)
+    for name in ("c_lift", "c_friction"):
+        if sim[name] is not None and float(sim[name]) == DEFAULT_COEFFICIENTS[config.force.law][name]:
+            sim[name] = None
     # an .obj stone is pinned by its contents too: a resume (or a shard) with another file at that path
     # would mix two stones' results
     mesh_file = {}
@@ -548,6 +554,12 @@ def _chunk_problem(data, spec: SweepSpec, j: int, index: np.ndarray) -> str | No
                      for v in values)
         if not ok:
             return f"{key!r} holds a value that is not a {'count' if key in CHUNK_COUNTS[spec.kind] else 'number'}"
+        if key in CHUNK_VALUES[spec.kind]:  # a number the sweep cannot have produced: a hand edit, or another file
+            low, high, unit = ((*spec.speed_range, "m/s, the bisection's bracket") if key == "umin"
+                               else (0.0, spec.duration, "s, the throw's duration"))
+            wrong = [v for v in values if v is not None and not low <= v <= high]
+            if wrong:
+                return f"{key!r} holds {wrong[0]!r}, outside [{low:g}, {high:g}] {unit}"
     return None
 
 

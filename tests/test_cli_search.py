@@ -119,6 +119,16 @@ def test_count_flags_take_plain_digits_only(argv, word, capsys):
     assert e.value.code == 2 and word in err and err.count("\n") == 1, err
 
 
+def test_tilt_lists_are_rounded_but_never_past_their_ends():
+    """(session 32) A:B:N is rounded to 10 decimals (5:10:6 is 5, 6, ..., 10), which took 89.99999999999 to
+    90, outside the tilts' open range: refused though the user gave a valid tilt."""
+    from jaxskip.cli_search import _values
+
+    assert _values("5:10:6", "--tilts") == [5.0, 6.0, 7.0, 8.0, 9.0, 10.0]
+    assert _values("89.99999999999:89.99999999999:1", "--tilts") == [89.99999999999]
+    assert _values("-89.99999999999:89.99999999999:3", "--tilts") == [-89.99999999999, 0.0, 89.99999999999]
+
+
 def test_bare_sweep_asks_for_the_kind_only(capsys):
     """argparse's own error (exit 2, one line): ``sweep`` needs a kind; FOLDER is only merge's."""
     with pytest.raises(SystemExit) as e:

@@ -343,7 +343,10 @@ def _finished_umin(out):
     ('{"chunk": 1, "items": [1], "umin": ["x"], "bounces_at_high": [1], "bounces_at_low": [0], "diverged": [0]}',
      "'umin' holds a value that is not a number"),
     ("[]", "not a JSON object"),
-], ids=["empty", "truncated", "too-long", "another-chunk", "not-a-number", "not-an-object"])
+    # (session 32) a U_min outside the bisection's bracket was taken as found
+    ('{"chunk": 1, "items": [1], "umin": [-5.0], "bounces_at_high": [1], "bounces_at_low": [0], "diverged": [0]}',
+     "'umin' holds -5.0, outside [0.5, 8] m/s, the bisection's bracket"),
+], ids=["empty", "truncated", "too-long", "another-chunk", "not-a-number", "not-an-object", "outside-bracket"])
 def test_damaged_chunk_is_refused_naming_it_and_recomputed_once_deleted(tmp_path, text, problem):
     """A damaged chunk file stops the resume and the merge with a ParameterError naming the file and what
     is wrong (not a KeyError or a bare JSON message); deleted, it is recomputed to the same result."""
@@ -485,6 +488,23 @@ def test_one_obj_stone_spelt_two_ways_is_one_sweep(tmp_path, monkeypatch):
         assert spec.config["stone"] == "peb.obj"
         assert run_sweep(spec, tmp_path / "s")["bounces"] == first["bounces"]
     assert make_spec("domain", stone="paper", **settings).config["stone"] == "paper"
+
+
+def test_a_coefficient_given_at_its_default_is_the_same_sweep(tmp_path):
+    """(session 32) ``--c-lift 1`` (Bocquet's calibrated C_l, said aloud) made another spec than no flag, so a
+    sweep started without it refused to resume with it. A coefficient off the default is still another sweep."""
+    settings = dict(tilts=[20.0], attacks=[20.0], speed=3.5, max_steps=400)
+    plain = make_spec("domain", **settings)
+    first = run_sweep(plain, tmp_path / "s")
+    for given in (dict(c_lift=1.0), dict(c_friction=0.3), dict(c_lift=1, c_friction=0.3)):
+        spec = make_spec("domain", **settings, **given)
+        assert spec == plain, given
+        assert run_sweep(spec, tmp_path / "s")["bounces"] == first["bounces"]
+    # the seed law's calibrated friction is 0.1: 0.3 there is a choice, and kept
+    assert make_spec("domain", force_law="seed", c_friction=0.3, **settings).c_friction == 0.3
+    assert make_spec("domain", force_law="seed", c_friction=0.1, **settings).c_friction is None
+    with pytest.raises(ParameterError, match="holds a different sweep"):
+        run_sweep(make_spec("domain", c_lift=1.1, **settings), tmp_path / "s")
 
 
 def test_chunks_without_their_spec_file_are_refused(tmp_path):
