@@ -76,6 +76,11 @@ def _number(text: str) -> float:
     return float(text)
 
 
+def plural(n: int, word: str) -> str:
+    """``n`` and ``word``, with an ``s`` unless ``n`` is 1: ``1 bounce``, ``0 bounces``, ``14 bounces``."""
+    return f"{n} {word}{'' if n == 1 else 's'}"
+
+
 def _float(text: str) -> float:
     """argparse ``type`` for a decimal flag: :func:`_number`, or argparse's one-line error, which names the
     flag itself (``argument --speed: must be a number, got '1_0'``)."""
@@ -263,16 +268,16 @@ def _degrees(angle: float) -> str:
 
 def _summary(result) -> str:
     lines = [
-        f"{result.bounces} bounces over {result.distance:.2f} m; outcome: {result.outcome.replace('_', ' ')} "
+        f"{plural(result.bounces, 'bounce')} over {result.distance:.2f} m; outcome: {result.outcome.replace('_', ' ')} "
         f"after {result.final_time:.2f} s ({result.steps} steps, {result.wall_time:.2f} s wall)",
         f"stone {result.stone_name} ({result.mass * 1e3:.1f} g), force law {result.config.force.law}, "
         f"attitude {result.config.attitude}, integrator {result.config.integrator}, dt {result.config.dt:g} s",
     ]
     if result.contacts:
-        lines.append("  #   start [s]  length [ms]   x [m]   tilt in -> out [deg]   tilt direction in -> out [deg]")
+        lines.append("  #   start [s]  length [ms]   downrange [m]   tilt in -> out [deg]   tilt direction in -> out [deg]")
         for i, c in enumerate(result.contacts[:40]):
             lines.append(
-                f"{i + 1:3d}   {c.t_start:8.3f}   {1e3 * (c.t_end - c.t_start):9.1f}   {c.x:6.2f}   "
+                f"{i + 1:3d}   {c.t_start:8.3f}   {1e3 * (c.t_end - c.t_start):9.1f}   {c.x:13.2f}   "
                 f"{math.degrees(c.tilt_start):6.1f} -> "
                 + (f"{math.degrees(c.tilt_end):6.1f}   {_degrees(c.tilt_direction_start):>10} -> "
                    f"{_degrees(c.tilt_direction_end):>4}" if math.isfinite(c.tilt_end)
@@ -282,7 +287,9 @@ def _summary(result) -> str:
             logged = (f" (the first {len(result.contacts)} of {result.n_contacts} are logged)"
                       if result.n_contacts > len(result.contacts) else "")
             lines.append(f"  ... {result.n_contacts - 40} more{logged}")
-        lines.append("  (tilt direction: 0 leading edge up, +90 banked to the left, 180 leading edge down)")
+        lines.append("  (downrange: the centre of mass's distance from the release point along the heading, at "
+                     "the contact's start; tilt direction: 0 leading edge up, +90 banked to the left, 180 leading "
+                     "edge down)")
     if result.outcome == "step_limit":
         lines.append("note: the step budget ran out while the stone was still in play; raise --max-steps")
     return "\n".join(lines)
@@ -401,12 +408,20 @@ def _stone_label(stone) -> str:
 
 def _with_flag(message: str, args) -> str:
     """A library message begins with the parameter's name (``speed_range is inverted: ...``): at this edge,
-    the flag's (``--speed-range is inverted: ...``)."""
+    the flag's (``--speed-range is inverted: ...``); a setting quoted as ``velocity='passive'`` becomes
+    ``--velocity passive``."""
     names = {d: "--" + d.replace("_", "-") for d in vars(args) if d not in ("command", "kind", "folders")}
     if args.command != "throw":
         from .cli_search import flag_names
 
         names.update(flag_names(args))
+    # a library setting quoted as name='value' (velocity='passive', law='seed') is the flag and its value here
+    names.setdefault("law", "--force-law")   # (ForceModel's name for --force-law)
+
+    def flagged(m):
+        return f"{names[m.group(1)]} {m.group(2)}" if m.group(1) in names else m.group(0)
+
+    message = re.sub(r"\b([a-z_]+)='([^'\s]*)'", flagged, message)
     word, space, rest = message.partition(" ")
     return f"{names[word]} {rest}" if space and word in names else message
 

@@ -13,7 +13,7 @@ import sys
 
 from ._checks import ParameterError, check_int
 from .cli import (PICTURES, SIM_DEFAULTS, _float, _int, _say, add_common, check_output, describe, environment,
-                  print_json, show_progress, sim_values, simulation)
+                  plural, print_json, show_progress, sim_values, simulation)
 
 RANGES = (("speed", "M/S", "speed [m/s]", (3.0, 12.0)), ("tilt", "DEG", "tilt [deg]", (5.0, 45.0)),
           ("attack", "DEG", "attack [deg]", (0.0, 30.0)), ("spin", "REV/S", "spin [rev/s]", (0.0, 20.0)))
@@ -254,15 +254,15 @@ def run_optimize(args) -> int:
         print_json(out)
     else:
         b = r.best
-        what = (f"longest distance {r.best_distance:.2f} m ({r.best_bounces} bounces)" if r.objective == "distance"
-                else f"best {r.best_bounces} bounces ({r.best_distance:.2f} m)")
+        what = (f"longest distance {r.best_distance:.2f} m ({plural(r.best_bounces, 'bounce')})"
+                if r.objective == "distance" else f"best {plural(r.best_bounces, 'bounce')} ({r.best_distance:.2f} m)")
         _say(f"{r.method} search: {what} at speed {b['speed']:.2f} m/s, tilt "
              f"{b['tilt']:.1f} deg, attack {b['attack']:.1f} deg, spin {b['spin']:.1f} rev/s")
         _say(f"cost: {r.forward_throws} exact throws, {r.gradient_evals} gradient evaluations, "
              f"{r.wall_time:.1f} s wall")
         _say(f"to throw it again: {command}")
         if single.bounces != r.best_bounces:
-            _say(f"  note: that command counts {single.bounces} bounces ({single.distance:.2f} m): the search "
+            _say(f"  note: that command counts {plural(single.bounces, 'bounce')} ({single.distance:.2f} m): the search "
                  "counted its throws in batches, whose rounding differs from one throw's, and a long throw's "
                  "count is chaotic down to the last bit")
         polish = [h for h in r.history if h.get("phase") == "polish"]

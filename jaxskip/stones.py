@@ -375,7 +375,7 @@ def load_stone(name_or_path: str | os.PathLike) -> tuple[TriMesh, float]:
         return factory(), density
     path = Path(name_or_path)
     if path.suffix.lower() != ".obj":
-        raise MeshError(f"unknown stone {str(name_or_path)!r}; valid names are "
+        raise MeshError(f"stone {str(name_or_path)!r} is unknown; valid names are "
                         f"{', '.join(sorted(BUILTIN_STONES))}, or give a path to an .obj file")
     if not path.is_file():
         raise MeshError(f"stone file {str(path)!r} " + ("is not a regular file" if path.exists() else "does not exist"))

@@ -232,7 +232,7 @@ def make_spec(kind: str, *, tilts, attacks=(REFERENCE["attack"],), speed: float 
     tilts = _angles("tilts", tilts)
     attacks = _angles("attacks", attacks)
     if kind == "umin" and len(attacks) != 1:
-        raise ParameterError(f"a umin sweep takes one attack angle, got {len(attacks)}")
+        raise ParameterError(f"attacks must be one angle for a umin sweep, got {len(attacks)}")
     if len(tilts) * len(attacks) > MAX_GRID:
         raise ParameterError(f"tilts and attacks: their grid must have at most {MAX_GRID} points, got "
                              f"{len(tilts)} x {len(attacks)}")

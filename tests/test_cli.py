@@ -91,7 +91,9 @@ def test_obj_stone(tmp_path):
     (["--plot", "out.txt"], "--plot"),
     (["--trajectory", "out.txt"], "--trajectory must end in .csv or .json"),
     (["--fps", "30"], "--fps is the frame rate of --trajectory"),
-    (["--force-law", "seed", "--velocity", "passive"], "velocity='passive' is defined for law='bocquet' only"),
+    (["--force-law", "seed", "--velocity", "passive"], "--velocity passive is defined for --force-law bocquet only, "
+                                                        "got --force-law seed"),
+    (["--stone", "granite"], "--stone 'granite' is unknown; valid names are clanet, disk"),
     (["--trajectory", "out.csv", "--fps", "0"], "--fps must be in (0, 10000] frames/s"),
     (["--speed", "1_0"], "argument --speed: must be a number, got '1_0'"),  # float() reads it as 10
     # (session 32, a CLI review) each was accepted, or its message named the flag twice
@@ -106,6 +108,13 @@ def test_bad_input_exits_2_without_traceback(args, needle):
     assert "Traceback" not in p.stderr
     assert needle in p.stderr
     assert p.stdout == ""
+
+
+def test_counts_are_written_in_the_singular_for_one():
+    """(session 32) "1 bounces over 0.40 m" in the summary line."""
+    from jaxskip.cli import plural
+
+    assert [plural(n, "bounce") for n in (0, 1, 2)] == ["0 bounces", "1 bounce", "2 bounces"]
 
 
 def test_open_obj_is_refused(tmp_path):

@@ -41,6 +41,7 @@ ROOT = Path(__file__).resolve().parent.parent
                                     "screened throws; got 3"),
     # (session 32, a CLI review) each of these was accepted, or its message named no flag
     (["optimize", "--starts", "100", "--screen", "70"], "--screen must be 0 or at least --starts (100)"),
+    (["sweep", "umin", "--attacks", "5,10"], "--attacks must be one angle for a umin sweep, got 2"),
     (["optimize", "--plot", ".pdf"], "--plot needs a file name before its suffix, such as 'out.pdf', got '.pdf'"),
     (["sweep", "umin", "--tilts", "\uff11\uff10"], "--tilts must be A:B:N"),
     (["optimize", "--method", "perturbation", "--screen", "64"], "--screen is not used by --method perturbation"),
