@@ -315,7 +315,7 @@ def _throw(args) -> int:
     check_output("--trajectory", args.trajectory, (".csv", ".json"))
     _distinct_outputs(args, ("--plot", "--water-plot", "--animate", "--trajectory"))
     if args.trajectory:
-        from .export import stone_path
+        from .export import check_stone_file, stone_path
 
         beside = stone_path(args.trajectory)
         check_output("--trajectory", beside, (".obj",))
@@ -323,6 +323,10 @@ def _throw(args) -> int:
                                                                                                      beside):
             raise ParameterError(f"--trajectory {args.trajectory!r} would write the stone's body-frame mesh over "
                                  f"--stone {args.stone!r}: choose another trajectory name")
+        try:
+            check_stone_file(args.trajectory)   # a mesh jaxskip did not write is never overwritten
+        except ParameterError as exc:
+            raise ParameterError(f"--trajectory {args.trajectory!r}: {exc}") from None
     if args.water == "flat" and (args.animate or args.water_plot):
         raise ParameterError("--animate and --water-plot need --water field (flat water has no ripples to draw)")
     if args.fps is not None and args.trajectory is None:

@@ -37,7 +37,7 @@ from ._checks import ParameterError, check_range
 from ._files import writing
 from .api import ThrowResult
 from .body import RigidStone
-from .mesh import TriMesh, write_obj
+from .mesh import TriMesh, obj_text, write_obj
 from .simulate import _momentum_from_spin, free_rotation
 
 #: Highest frame rate :func:`frames` accepts [1/s].
@@ -130,6 +130,39 @@ def stone_path(path) -> str:
     return os.path.splitext(os.fspath(path))[0] + STONE_SUFFIX
 
 
+#: The first words of every stone file :func:`write_trajectory` writes (its OBJ comment line).
+STONE_HEADER = "# jaxskip trajectory "
+
+
+def _stone_file_owner(obj: str) -> str | None:
+    """The trajectory file name an existing stone file ``obj`` was written for (None: no such file).
+    Raises :class:`ParameterError` for a file :func:`write_trajectory` did not write (a user's own mesh)."""
+    if not os.path.isfile(obj):
+        return None
+    try:
+        with open(obj, encoding="utf-8", errors="replace") as fh:
+            first = fh.readline()
+    except OSError:
+        first = ""
+    if not first.startswith(STONE_HEADER):
+        raise ParameterError(f"the trajectory's stone file {obj!r} exists and was not written by jaxskip (it may be "
+                             "your own mesh): writing the trajectory would replace it; choose another trajectory "
+                             "name or move that file")
+    return first[len(STONE_HEADER):].split(":", 1)[0]
+
+
+def check_stone_file(path) -> None:
+    """Refuse, before a run, a trajectory ``path`` whose stone file (:func:`stone_path`) exists and was not
+    written by :func:`write_trajectory`: a user's own ``throw.stone.obj`` is never overwritten."""
+    _stone_file_owner(stone_path(path))
+
+
+def _drop_owner(text: str) -> str:
+    """A stone file's text without the trajectory name in its first line."""
+    first, _, rest = text.partition("\n")
+    return first.split(":", 1)[-1] + "\n" + rest
+
+
 def write_trajectory(result, path, fps: float = 60.0) -> str:
     """Write :func:`frames` of ``result`` to ``path`` and the stone beside it; return the stone's path.
 
@@ -148,9 +181,12 @@ def write_trajectory(result, path, fps: float = 60.0) -> str:
       the names; ``units`` gives them, ``in_water`` as true/false).
 
     The stone is written in the body frame those quaternions rotate (:func:`body_mesh`) as an OBJ at
-    :func:`stone_path` (``PATH`` with :data:`STONE_SUFFIX`: ``throw.csv`` -> ``throw.stone.obj``;
-    overwritten), its first line a comment describing the throw (stone, mass, speed, angles, spin,
-    bounces, outcome, frame rate); that path is returned.
+    :func:`stone_path` (``PATH`` with :data:`STONE_SUFFIX`: ``throw.csv`` -> ``throw.stone.obj``), its first
+    line a comment describing the throw (stone, mass, speed, angles, spin, bounces, outcome, frame rate);
+    that path is returned. An existing file there is overwritten only if this function wrote it, for this
+    trajectory or for another of the same throw (``throw.json`` after ``throw.csv``); a file it did not
+    write (your own mesh) or another throw's stone is refused with a :class:`ParameterError`, before
+    anything is written.
 
     >>> import os, tempfile
     >>> from jaxskip import simulate
@@ -174,6 +210,7 @@ def write_trajectory(result, path, fps: float = 60.0) -> str:
     for name, target in (("path", path), ("path's stone file", obj)):
         if os.path.isdir(target):
             raise ParameterError(f"{name} {target!r} is a folder, not a file: choose another trajectory path")
+    owner = _stone_file_owner(obj)   # (a file jaxskip did not write is refused before anything is written)
     f = frames(result, fps)
     t = result.throw
     about = (f"jaxskip trajectory {os.path.basename(path)}: {result.stone_name} stone of {result.mass * 1e3:.1f} g "
@@ -181,7 +218,17 @@ def write_trajectory(result, path, fps: float = 60.0) -> str:
              f"{math.degrees(float(t.tilt)):g} deg, attack {math.degrees(float(t.attack)):g} deg, spin "
              f"{float(t.spin) / (2 * math.pi):g} rev/s; {result.bounces} bounces, {result.outcome}; "
              f"{fps:g} frames/s; world frame z up, water at z = 0")
-    write_obj(obj, dataclasses.replace(body_mesh(result.rigid), name=about))
+    stone = dataclasses.replace(body_mesh(result.rigid), name=about)
+    if owner is not None and owner != os.path.basename(path):
+        # the stone of another trajectory (throw.json's, now writing throw.csv): replaced only if it is the
+        # same stone of the same throw, told apart by nothing but the trajectory's name
+        with open(obj, encoding="utf-8", errors="replace") as fh:
+            same = _drop_owner(fh.read()) == _drop_owner(obj_text(stone))
+        if not same:
+            raise ParameterError(f"the trajectory's stone file {obj!r} holds the stone of another throw, written "
+                                 f"with the trajectory {owner!r}: writing {os.path.basename(path)!r} would replace it; "
+                                 "choose another trajectory name")
+    write_obj(obj, stone)
     table = np.column_stack([f["time"], f["position"], f["orientation"], f["velocity"],
                              f["in_water"].astype(np.float64)])
     if path.lower().endswith(".csv"):
@@ -200,4 +247,5 @@ def write_trajectory(result, path, fps: float = 60.0) -> str:
     return obj
 
 
-__all__ = ["COLUMNS", "MAX_FPS", "STONE_SUFFIX", "body_mesh", "frames", "stone_path", "write_trajectory"]
+__all__ = ["COLUMNS", "MAX_FPS", "STONE_HEADER", "STONE_SUFFIX", "body_mesh", "check_stone_file", "frames", "stone_path",
+           "write_trajectory"]

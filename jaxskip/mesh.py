@@ -631,10 +631,17 @@ def write_obj(path: str | os.PathLike, mesh: TriMesh) -> None:
     mesh : TriMesh
         Mesh to write; faces become 1-based indices.
     """
+    text = obj_text(mesh)
+    with writing(path):
+        Path(path).write_text(text, encoding="utf-8")
+
+
+def obj_text(mesh: TriMesh) -> str:
+    """The text :func:`write_obj` writes for ``mesh``: a comment line (the mesh's name and size), ``v`` lines
+    [m] and 1-based ``f`` lines."""
     _check_mesh_type(mesh)
     title = " ".join(mesh.name.split())  # keep the comment on one line
     lines = [f"# {title}: {len(mesh.vertices)} vertices, {mesh.n_triangles} triangles, metres"]
     lines += [f"v {float(x)!r} {float(y)!r} {float(z)!r}" for x, y, z in mesh.vertices]
     lines += [f"f {a + 1} {b + 1} {c + 1}" for a, b, c in mesh.faces.tolist()]
-    with writing(path):
-        Path(path).write_text("\n".join(lines) + "\n", encoding="utf-8")
+    return "\n".join(lines) + "\n"

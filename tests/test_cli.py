@@ -420,6 +420,12 @@ def test_trajectory_never_writes_over_the_stone_it_simulates(tmp_path, capsys):
     assert main(["throw", "--stone", str(stone), "--trajectory", str(tmp_path / "mine.csv")]) == 2
     assert "would write the stone's body-frame mesh over --stone" in capsys.readouterr().err
     assert stone.read_bytes() == before and not (tmp_path / "mine.csv").exists()
+    # (session 32) nor over a mesh of the user's that is not the stone thrown, before the throw is simulated
+    assert main(["throw", "--trajectory", str(tmp_path / "mine.json")]) == 2
+    err = capsys.readouterr().err
+    assert f"--trajectory {str(tmp_path / 'mine.json')!r}: the trajectory's stone file" in err
+    assert "was not written by jaxskip" in err and err.count("\n") == 1
+    assert stone.read_bytes() == before and not (tmp_path / "mine.json").exists()
 
 
 def test_version_and_bare_command(capsys):

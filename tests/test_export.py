@@ -179,3 +179,29 @@ def test_bad_trajectory_paths_are_refused_before_anything_is_written(default_thr
         write_trajectory(default_throw, str(tmp_path / "y.json"))
     assert sorted(p.name for p in tmp_path.iterdir()) == ["x.csv", "y.stone.obj"]
     assert not any((tmp_path / "x.csv").iterdir()) and not any((tmp_path / "y.stone.obj").iterdir())
+
+
+def test_a_stone_file_jaxskip_did_not_write_is_never_overwritten(default_throw, tmp_path):
+    """(session 32, a review) write_trajectory(r, "t.csv") replaced the user's own t.stone.obj (the mesh the
+    throw was made with) by the body-frame mesh, silently; and x.csv after x.json of another throw replaced
+    the first throw's stone. Both refused before anything is written; the same throw in both formats, or
+    the same trajectory again, still overwrites."""
+    from jaxskip import simulate, write_obj
+    from jaxskip.stones import irregular_pebble
+
+    mine = tmp_path / "t.stone.obj"
+    write_obj(mine, irregular_pebble(seed=3))
+    before = mine.read_bytes()
+    with pytest.raises(ParameterError, match="exists and was not written by jaxskip"):
+        write_trajectory(default_throw, tmp_path / "t.csv")
+    assert mine.read_bytes() == before and not (tmp_path / "t.csv").exists()
+    # the same throw as JSON then CSV, and the CSV again: one stone, overwritten
+    write_trajectory(default_throw, tmp_path / "u.json")
+    write_trajectory(default_throw, tmp_path / "u.csv")
+    write_trajectory(default_throw, tmp_path / "u.csv")
+    assert "jaxskip trajectory u.csv:" in (tmp_path / "u.stone.obj").read_text().splitlines()[0]
+    # another throw's stone is not replaced
+    other = simulate(stone="clanet", config=SimConfig(duration=0.05))
+    with pytest.raises(ParameterError, match=r"holds the stone of another throw, written with the trajectory 'u.csv'"):
+        write_trajectory(other, tmp_path / "u.json")
+    assert "jaxskip trajectory u.csv:" in (tmp_path / "u.stone.obj").read_text().splitlines()[0]
