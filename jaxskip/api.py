@@ -156,8 +156,11 @@ class ThrowResult:
         """JSON-ready summary with the resolved parameters, in SI (m, m/s, s, kg, kg/m^3, m/s^2) except the
         throw's angles and spin in ``parameters``, which appear only in user units: ``tilt_deg``,
         ``attack_deg``, ``heading_deg`` [deg] and ``spin_rev_s`` [rev/s] (no radian values there). Each of
-        ``contacts`` is :meth:`Contact.to_dict` (its tilts in rad and in degrees). ``water`` (only with a
-        height field): :attr:`field` without its ``frames``."""
+        ``contacts`` is :meth:`Contact.to_dict` (its tilts in rad and in degrees). ``parameters`` holds every
+        setting that can change the answer: the throw, the stone and its mass, the water's coefficients and
+        every :class:`SimConfig` and :class:`ForceModel` field but ``record``, ``segment`` and ``checkpoint``
+        (how the run is stored and differentiated, not what it computes). ``water`` (only with a height
+        field): :attr:`field` without its ``frames``."""
         t = self.throw
         f = self.config.force
         return {
@@ -180,6 +183,8 @@ class ThrowResult:
                 "force_law": f.law,
                 "faces": f.faces,
                 "velocity": f.velocity,
+                "normalize_lift": f.normalize_lift,
+                "sharpness": f.sharpness,
                 "c_lift": float(self.water.c_lift),
                 "c_friction": float(self.water.c_friction),
                 "rho_water": float(self.water.rho_water),
@@ -189,6 +194,11 @@ class ThrowResult:
                 "dt": self.config.dt,
                 "duration": self.config.duration,
                 "max_steps": self.config.max_steps,
+                "flight": self.config.flight,
+                "max_flight_step": self.config.max_flight_step,
+                "bounce_clearance": self.config.bounce_clearance,
+                "stop_speed": self.config.stop_speed,
+                "max_contacts": self.config.max_contacts,
             },
             "wall_time": self.wall_time,
             **({"water": {k: v for k, v in self.field.items() if k != "frames"}} if self.field else {}),

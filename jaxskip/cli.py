@@ -210,8 +210,13 @@ def _finite(obj):
     return obj
 
 
-def print_json(obj) -> None:
-    """Print one strict JSON object on stdout (values that are not finite are null)."""
+def print_json(obj, args=None) -> None:
+    """Print one strict JSON object on stdout (values that are not finite are null). With the command's
+    ``args``, the object ends with ``warnings``: each warning the run printed on stderr, as
+    ``{"category": "AccuracyWarning", "message": text}`` (empty: none), so that a pipeline that keeps only
+    stdout still knows an answer is unconverged or beyond a stability bound."""
+    if args is not None:
+        obj = {**obj, "warnings": list(getattr(args, "_warnings", []))}
     _say(json.dumps(_finite(obj), allow_nan=False))
 
 
@@ -389,7 +394,7 @@ def _throw(args) -> int:
         if stone_obj:
             out["trajectory_stone"] = stone_obj
         out["environment"] = environment()
-        print_json(out)
+        print_json(out, args)
     else:
         _say(_summary(result))
         if result.field:
@@ -414,7 +419,8 @@ def _with_flag(message: str, args) -> str:
     """A library message begins with the parameter's name (``speed_range is inverted: ...``): at this edge,
     the flag's (``--speed-range is inverted: ...``); a setting quoted as ``velocity='passive'`` becomes
     ``--velocity passive``."""
-    names = {d: "--" + d.replace("_", "-") for d in vars(args) if d not in ("command", "kind", "folders")}
+    names = {d: "--" + d.replace("_", "-") for d in vars(args)
+             if d not in ("command", "kind", "folders") and not d.startswith("_")}
     if args.command != "throw":
         from .cli_search import flag_names
 
@@ -439,13 +445,16 @@ def _warning_printer(args):
     from .simulate import StabilityWarning
 
     shown = set()
+    args._warnings = []
 
     def show(message, category, filename, lineno, file=None, line=None):
         key = StabilityWarning if issubclass(category, StabilityWarning) else str(message)
         if key in shown:
             return
         shown.add(key)
-        print(f"jaxskip: warning: {_with_flag(str(message), args)}", file=sys.stderr, flush=True)
+        text = _with_flag(str(message), args)
+        args._warnings.append({"category": category.__name__, "message": text})   # (for --json)
+        print(f"jaxskip: warning: {text}", file=sys.stderr, flush=True)
 
     return show
 

@@ -251,7 +251,7 @@ def run_optimize(args) -> int:
         out["environment"] = environment()
         if args.plot:
             out["plot"] = str(args.plot)
-        print_json(out)
+        print_json(out, args)
     else:
         b = r.best
         what = (f"longest distance {r.best_distance:.2f} m ({plural(r.best_bounces, 'bounce')})"
@@ -360,7 +360,7 @@ def run_sweep_command(args) -> int:
                        f"shards below {n_chunks}); a smaller --chunk-size cuts it into more")
             no_plot = "no picture: the sweep is not complete here (give --plot to the merge)"
             if args.json:
-                print_json({"complete": False, "out": args.out, **({"plot": None} if args.plot else {})})
+                print_json({"complete": False, "out": args.out, **({"plot": None} if args.plot else {})}, args)
                 if args.plot:
                     print(f"jaxskip: note: {no_plot}", file=sys.stderr)
             else:
@@ -371,7 +371,7 @@ def run_sweep_command(args) -> int:
     if args.json:
         # (a merge joins chunks computed elsewhere: the environment here says nothing about them)
         here = {} if args.kind == "merge" else {"environment": environment()}
-        print_json({"complete": True, **result, **({"plot": args.plot} if args.plot else {}), **here})
+        print_json({"complete": True, **result, **({"plot": args.plot} if args.plot else {}), **here}, args)
         return 0
     spec = result["spec"]
     if spec["kind"] == "umin":

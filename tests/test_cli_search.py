@@ -238,7 +238,8 @@ def test_default_sweep_is_sharded(tmp_path, capsys):
     argv = ["sweep", "umin", "--tilts", "10,20", "--iterations", "2", "--json"]
     for i in (0, 1):
         assert main(argv + ["--out", str(tmp_path / f"s{i}"), "--shard-index", str(i), "--num-shards", "2"]) == 0
-        assert json.loads(capsys.readouterr().out) == {"complete": False, "out": str(tmp_path / f"s{i}")}
+        assert json.loads(capsys.readouterr().out) == {"complete": False, "out": str(tmp_path / f"s{i}"),
+                                                          "warnings": []}
         assert [p.name for p in (tmp_path / f"s{i}").glob("chunk-*.json")] == [f"chunk-0000{i}.json"]
     assert main(["sweep", "merge", str(tmp_path / "s0"), str(tmp_path / "s1"), "--out", str(tmp_path / "m"),
                  "--json"]) == 0
@@ -372,7 +373,7 @@ def test_a_shard_that_leaves_the_sweep_incomplete_says_there_is_no_picture(tmp_p
     assert "no picture: the sweep is not complete here" in capsys.readouterr().out
     assert main(argv + ["--json"]) == 0
     out, err = capsys.readouterr()
-    assert json.loads(out) == {"complete": False, "out": str(tmp_path / "s"), "plot": None}
+    assert json.loads(out) == {"complete": False, "out": str(tmp_path / "s"), "plot": None, "warnings": []}
     assert "no picture" in err and not (tmp_path / "s.png").exists()
 
 

@@ -745,3 +745,24 @@ def test_rollout_takes_a_float32_throw_under_x64():
     state, tracker, _ = rollout_jit(config, f32, stone, water)
     np.testing.assert_array_equal(np.asarray(state.position), np.asarray(ref.position))
     assert int(tracker.bounces) == int(ref_tracker.bounces)
+
+
+def test_to_dict_parameters_hold_every_setting_that_changes_the_answer():
+    """(session 32, a review) two runs of 6 and 1 bounces (sharpness, bounce_clearance, flight, stop_speed
+    changed) wrote the same "resolved parameters": a saved result could not be reproduced from its record."""
+    import dataclasses
+
+    from jaxskip import ForceModel
+
+    a = simulate(config=SimConfig(duration=0.2))
+    b = simulate(config=SimConfig(duration=0.2, force=ForceModel(sharpness=10.0), bounce_clearance=0.01,
+                                  flight="step", stop_speed=1.0))
+    assert a.bounces != b.bounces
+    pa, pb = a.to_dict()["parameters"], b.to_dict()["parameters"]
+    assert pa != pb
+    assert (pb["sharpness"], pb["bounce_clearance"], pb["flight"], pb["stop_speed"]) == (10.0, 0.01, "step", 1.0)
+    # every field of the configuration but how the run is stored and differentiated
+    names = {f.name for f in dataclasses.fields(SimConfig)} - {"force", "record", "segment", "checkpoint"}
+    names |= {f.name for f in dataclasses.fields(ForceModel)} - {"law"}
+    assert names <= set(pa), names - set(pa)
+    assert pa["force_law"] == "bocquet"
