@@ -485,9 +485,11 @@ _IGNORED_OBJ_KEYWORDS = frozenset({"vn", "vt", "o", "g", "s", "usemtl", "mtllib"
 
 
 def _obj_vertex(fields: list[str]) -> list[float]:
-    """Parse the fields of ``v x y z [w]`` into ``[x, y, z]``; ValueError if malformed."""
-    if len(fields) not in (3, 4):
-        raise ValueError("a vertex needs 3 coordinates (and optionally w)")
+    """Parse the fields of ``v x y z [w]`` or ``v x y z r g b`` (a colour per vertex, as MeshLab and
+    photogrammetry tools write scanned objects; the colour is ignored) into ``[x, y, z]``; ValueError if
+    malformed."""
+    if len(fields) not in (3, 4, 6):
+        raise ValueError("a vertex needs 3 coordinates (and optionally w, or a colour r g b)")
     try:
         xyz = [float(t) for t in fields]
     except ValueError:

@@ -93,6 +93,11 @@ MAX_DT = 0.01
 """Largest accepted ``SimConfig.dt`` [s] (above :data:`ACCURATE_DT` answers are unconverged)."""
 
 
+MAX_BOUNCE_CLEARANCE = 0.01
+"""Largest :attr:`SimConfig.bounce_clearance` [m]: 1 cm, ten times the default. (At 1 m the default throw
+was one contact that never ended: 0 bounces, and no error.)"""
+
+
 @document_fields
 @dataclasses.dataclass(frozen=True)
 class SimConfig:
@@ -128,7 +133,9 @@ class SimConfig:
     max_contacts: int = 64
     """Contacts logged in detail (more are still counted), in [1, 10^5]."""
     bounce_clearance: float = 1e-3
-    """A contact ends in a bounce once the lowest point is this far above the water [m], > 0."""
+    """A contact ends in a bounce once the lowest point is this far above the water [m], in (0, 0.01]
+    (:data:`MAX_BOUNCE_CLEARANCE`: the default throw's later hops rise only millimetres, so a larger
+    clearance merges them into one contact that never ends and counts no bounce)."""
     stop_speed: float = 0.05
     """Below this speed [m/s] (in (0, 100], the fastest throw) in the water the stone counts as stopped."""
     record: bool = True
@@ -164,7 +171,8 @@ class SimConfig:
             raise ParameterError(f"max_flight_step must be >= dt ({self.dt:g} s), got {self.max_flight_step:g} s "
                                  "(every step would shrink to it)")
         set_("max_contacts", check_int("max_contacts", self.max_contacts, minimum=1, maximum=100_000))
-        set_("bounce_clearance", check_positive("bounce_clearance", self.bounce_clearance, unit="m"))
+        set_("bounce_clearance", check_range("bounce_clearance", self.bounce_clearance, 0.0, MAX_BOUNCE_CLEARANCE,
+                                             unit="m", low_open=True))
         set_("stop_speed", check_range("stop_speed", self.stop_speed, 0.0, MAX_SPEED, unit="m/s", low_open=True))
         set_("segment", check_int("segment", self.segment, minimum=1, maximum=MAX_STEPS))
         set_("checkpoint", check_int("checkpoint", self.checkpoint, minimum=0, maximum=1))

@@ -272,7 +272,20 @@ def test_read_obj_triangulates_quads(tmp_path):
     np.testing.assert_array_equal(back.faces, mesh.faces)
 
 
-@pytest.mark.parametrize("bad_line", ["v 1 2", "v 1 2 x", "f 1 2", "f 1 2 9", "f 0 1 2",
+def test_read_obj_takes_vertex_colours(tmp_path):
+    """(session 32) ``v x y z r g b``, as MeshLab and photogrammetry tools write a scanned object, was
+    refused ("a vertex needs 3 coordinates"): the colour is ignored, the mesh is the same."""
+    mesh = box(0.05, 0.04, 0.01)
+    lines = [f"v {x!r} {y!r} {z!r} 0.5 0.25 1" for x, y, z in mesh.vertices.tolist()]
+    lines += [f"f {a + 1} {b + 1} {c + 1}" for a, b, c in mesh.faces.tolist()]
+    path = tmp_path / "scan.obj"
+    path.write_text("\n".join(lines))
+    back = read_obj(path)
+    np.testing.assert_array_equal(back.vertices, mesh.vertices)
+    np.testing.assert_array_equal(back.faces, mesh.faces)
+
+
+@pytest.mark.parametrize("bad_line", ["v 1 2", "v 1 2 x", "v 1 2 3 4 5", "v 1 2 3 0.5 x 1", "f 1 2", "f 1 2 9", "f 0 1 2",
                                       "f a/1 2 3", "l 1 2", "import os"])
 def test_read_obj_malformed_lines(tmp_path, bad_line):
     lines = TETRA_OBJ.splitlines()

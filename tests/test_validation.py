@@ -564,6 +564,8 @@ def _session_25_bad_inputs():
         # settings that cannot make sense: stopped at release; a time limit inside the first step
         (lambda: SimConfig(stop_speed=1e9), r"stop_speed must be in \(0, 100\] m/s"),
         (lambda: SimConfig(dt=5e-3, duration=1e-3), r"duration must be >= dt \(0.005 s\)"),
+        # (session 32) a 1 m clearance made the default throw one contact that never ended: 0 bounces, silently
+        (lambda: SimConfig(bounce_clearance=1.0), r"bounce_clearance must be in \(0, 0.01\] m, got 1"),
         # names or other objects where a mesh, a grid or a search result belongs: bare AttributeErrors
         (lambda: mass_properties("paper", density=2650.0), "mesh must be a jaxskip.TriMesh .* got str"),
         (lambda: write_obj("/tmp/never-written.obj", "paper"), "mesh must be a jaxskip.TriMesh"),
