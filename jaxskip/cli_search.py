@@ -399,8 +399,14 @@ def run_sweep_command(args) -> int:
                 digits = bracket_digits(res)
                 where = (f"bisection: the true U_min lies in ({u - res:.{digits}f}, {u:.{digits}f}] m/s, a bracket "
                          f"of {res:.2g} m/s")
-            _say(f"magic angle: {result['best_tilt']:g} deg, U_min {u:.2f} m/s ({where})")
-            if result["best_tilt_fit"] is not None:
+            tied = [f"{t:g}" for t, v, n_low, n_failed in zip(spec["tilts"], result["umin"], result["bounces_at_low"],
+                                                              failed) if v == u and not n_low and not n_failed]
+            if u > low and len(tied) > 1:  # the first of equal answers is not a minimum
+                _say(f"magic angle: no single minimum: tilts {', '.join(tied)} deg tie at U_min {u:.2f} m/s ({where}; "
+                     "more --iterations narrow the bracket)")
+            else:
+                _say(f"magic angle: {result['best_tilt']:g} deg, U_min {u:.2f} m/s ({where})")
+            if result["best_tilt_fit"] is not None and not (u > low and len(tied) > 1):
                 _say(f"  between grid points (parabola through its neighbours): {result['best_tilt_fit']:.1f} deg, "
                      f"U_min {result['best_umin_fit']:.2f} m/s")
     else:

@@ -423,6 +423,13 @@ def test_umin_text_words_the_bisection_bracket(tmp_path, capsys):
     assert "tilt   20.0 deg: U_min <= 2.5 m/s (bounces at the bracket's low end)" in text
     assert ("magic angle: 20 deg, U_min 2.50 m/s (it bounces at the bracket's low end: U_min <= 2.5 m/s, as at "
             "tilts 20 deg; the minimum lies among them (lower --speed-range))") in text
+    # (session 32, a review) tilts that tie named the first of them "the magic angle"
+    assert main(["sweep", "umin", "--tilts", "15,20,25", "--iterations", "3"]) == 0
+    text = capsys.readouterr().out
+    assert text.count("U_min 2.38 m/s") == 4, text
+    assert ("magic angle: no single minimum: tilts 15, 20, 25 deg tie at U_min 2.38 m/s (bisection: the true U_min "
+            "lies in (1.44, 2.38] m/s, a bracket of 0.94 m/s; more --iterations narrow the bracket)") in text
+    assert "between grid points" not in text
 
 
 def test_count_flags_show_the_ranges_that_are_checked(capsys):
