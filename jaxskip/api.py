@@ -371,7 +371,9 @@ def simulate(
         [100, 25000] kg/m^3 (cork to osmium; a mass must give such a density over the mesh's volume).
     water : :class:`WaterParams`; default ``water_params(config.force.law)``.
     config : :class:`SimConfig`; default ``SimConfig()`` (a ``dt`` above 1 ms is valid but unconverged:
-        an :class:`jaxskip.AccuracyWarning` says so).
+        an :class:`jaxskip.AccuracyWarning` says so). Its ``record`` is not used: one throw's trajectory is
+        always recorded (``result.trajectory``, and the contacts' tilts are read from it); for throws without
+        trajectories use :func:`jaxskip.simulate_batch`.
     chunk : steps per compiled chunk, an integer >= 1 (default 1000; capped at ``config.max_steps``);
         the run stops after the first chunk in which the stone goes out of play.
     progress : print a progress line to stderr.

@@ -115,7 +115,8 @@ MAX_GRID = 10_000_000
 
 
 def _angles(name: str, values) -> tuple:
-    """``values`` (a number or a 1-D sequence of them, at most :data:`MAX_ANGLES`) as a non-empty tuple of floats."""
+    """``values`` (a number or a 1-D sequence of them, at most :data:`MAX_ANGLES`, none repeated) as a
+    non-empty tuple of floats."""
     try:
         raw = np.atleast_1d(np.asarray(values))
         arr = raw.astype(float) if raw.dtype.kind in "iuf" else None  # not text, not True/False
@@ -125,6 +126,11 @@ def _angles(name: str, values) -> tuple:
         raise ParameterError(f"{name} must be a number or a non-empty list of numbers [deg], got {values!r}")
     if arr.size > MAX_ANGLES:
         raise ParameterError(f"{name} must hold at most {MAX_ANGLES} angles, got {arr.size}")
+    unique, counts = np.unique(arr, return_counts=True)
+    if np.any(counts > 1):  # simulated and written twice over: a typo far more often than a wish
+        n = int(counts[counts > 1][0])
+        raise ParameterError(f"{name} must not repeat an angle, got {float(unique[counts > 1][0]):g} "
+                             + ("twice" if n == 2 else f"{n} times"))
     return tuple(float(v) for v in arr)
 
 

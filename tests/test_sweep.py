@@ -309,6 +309,9 @@ def test_four_host_devices_equal_one(tmp_path):
     ({"kind": "umin", "tilts": [20.0], "speed_range": (8.0, 1.0)}, "speed_range is inverted"),
     ({"kind": "umin", "tilts": [20.0], "speed_range": (0.0, 8.0)}, r"speed_range must lie within \(0, 100\] m/s"),
     ({"kind": "umin", "tilts": [20.0], "attacks": [10.0, 20.0]}, "attacks must be one angle for a umin sweep, got 2"),
+    # (session 32) a repeated tilt was simulated and written twice
+    ({"kind": "umin", "tilts": [20.0, 30.0, 20.0]}, "tilts must not repeat an angle, got 20 twice"),
+    ({"kind": "domain", "tilts": [20.0], "attacks": [5, 5, 5]}, "attacks must not repeat an angle, got 5 3 times"),
     ({"kind": "domain", "tilts": [20.0], "spin": float("nan")}, "spin"),
     # the throw's own limits (Throw.from_degrees): spin within +-500 rev/s, speed within (0, 100] m/s
     ({"kind": "umin", "tilts": [20.0], "spin": 800.0}, r"spin must be in \[-500, 500\] rev/s, got 800.0"),
