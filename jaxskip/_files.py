@@ -17,6 +17,8 @@ import contextlib
 import errno
 import os
 
+from ._checks import ParameterError
+
 #: What :func:`writing` calls standard output.
 STDOUT = "standard output"
 
@@ -40,3 +42,20 @@ def writing(what):
         else:  # a file object (savefig takes one)
             name = repr(getattr(what, "name", what))
         raise OSError(exc.errno, f"cannot write {name}: {exc.strerror or exc}") from exc
+
+
+def check_picture_path(name: str, path) -> None:
+    """Refuse, before anything is drawn, a picture path (``str`` or ``os.PathLike``) without a suffix that
+    matplotlib writes: ``"h2"`` was saved as ``h2.png``, a file the caller never named, and ``"h2.tx"``
+    failed after the figure was drawn. ``None`` and file objects (which ``savefig`` takes) pass."""
+    if path is None or not isinstance(path, (str, os.PathLike)):
+        return
+    from matplotlib.backend_bases import FigureCanvasBase
+
+    formats = FigureCanvasBase.get_supported_filetypes()
+    text = os.fsdecode(os.fspath(path))
+    ext = os.path.splitext(os.path.basename(text))[1].lower().lstrip(".")
+    if ext not in formats:
+        raise ParameterError(f"{name} must end in a picture format matplotlib writes ({', '.join(sorted(formats))}"
+                             f"; the CLI takes .png, .pdf and .svg), got {text!r}"
+                             + (" (no suffix: matplotlib would write another file name, with .png)" if not ext else ""))

@@ -6,7 +6,7 @@ import math
 
 import numpy as np
 
-from ._files import writing
+from ._files import check_picture_path, writing
 
 
 def _number_contacts(side, xs, xlim, fontsize: float = 7.0, rows: int = 3, last_note: str = "") -> None:
@@ -49,7 +49,8 @@ def plot_throw(result, path=None, *, ax=None):
     Parameters
     ----------
     result : the throw to draw.
-    path : if given, save the figure there (PNG, PDF, SVG by extension) and close it.
+    path : if given, save the figure there and close it; its suffix picks the format (any matplotlib
+        writes: .png, .pdf, .svg, .jpg, ...; a path without one is refused).
     ax : optional pair of matplotlib axes (side, top) to draw into (the figure's layout is then left to
         the caller; a panel under 6 inches wide gets its title on two lines).
 
@@ -60,6 +61,7 @@ def plot_throw(result, path=None, *, ax=None):
     import matplotlib
 
     _check_result(result)
+    check_picture_path("path", path)
     if path is not None and ax is None:
         matplotlib.use("Agg", force=False)
     import matplotlib.pyplot as plt
@@ -206,7 +208,8 @@ def plot_water(result, stone, path=None, *, frame=None):
     ----------
     result : a :class:`jaxskip.api.ThrowResult` from ``simulate(..., water_field=...)``.
     stone : the :class:`jaxskip.RigidStone` that was thrown (drawn at the frame's pose).
-    path : if given, save there (PNG/PDF/SVG) and close the figure.
+    path : if given, save there and close the figure; its suffix picks the format (any matplotlib writes;
+        a path without one is refused).
     frame : index into ``result.field["frames"]``, an integer in [-n, n - 1] for n frames (negative: from
         the end); default the most disturbed frame.
 
@@ -214,6 +217,7 @@ def plot_water(result, stone, path=None, *, frame=None):
     """
     import matplotlib
 
+    check_picture_path("path", path)
     if path is not None:
         matplotlib.use("Agg", force=False)
     import matplotlib.pyplot as plt

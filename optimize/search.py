@@ -45,7 +45,7 @@ import optax
 from jaxskip import SimConfig, WaterParams, water_params
 from jaxskip._arrays import float_array, float_leaves
 from jaxskip._docs import document_fields
-from jaxskip._files import writing
+from jaxskip._files import check_picture_path, writing
 from jaxskip._progress import ProgressLine
 from jaxskip._checks import ParameterError, check_bool, check_int, check_positive, check_range
 from jaxskip.api import checked_config, checked_water, resolve_stone
@@ -1034,7 +1034,8 @@ def _norm_panel(ax, norms: list, colours: list, last: int, unit: str, starts: di
 
 
 def plot_search(result: SearchResult, path) -> None:
-    """Save a picture of a search to ``path`` (PNG/PDF/SVG).
+    """Save a picture of a search to ``path`` (its suffix picks the format: .png, .pdf, .svg or another matplotlib
+    writes; a path without one is refused).
 
     An iterative search (gradient, perturbation): every start's true count (or distance) and the best
     so far per iteration, the polish's throws at the tick "polish"; for a gradient search, a second
@@ -1048,6 +1049,7 @@ def plot_search(result: SearchResult, path) -> None:
     if not isinstance(result, SearchResult):
         raise ParameterError("result must be a SearchResult (as returned by gradient_search, perturbation_search, "
                              f"grid_search, random_search or local_search), got {type(result).__name__}")
+    check_picture_path("path", path)
     with writing(path):
         _search_figure(result).savefig(path, dpi=120)
 

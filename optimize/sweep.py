@@ -55,7 +55,7 @@ import numpy as np
 from jaxskip import Throw
 from jaxskip._checks import ParameterError, check_array, check_bool, check_int, check_range
 from jaxskip._docs import document_fields
-from jaxskip._files import writing
+from jaxskip._files import check_picture_path, writing
 from jaxskip._progress import ProgressLine
 from jaxskip.forces import DEFAULT_COEFFICIENTS
 from jaxskip.settings import SIM_DEFAULTS, describe, simulation
@@ -968,13 +968,15 @@ def _sweep_figure(result: dict):
 
 
 def plot_sweep(result: dict, path) -> None:
-    """Save a picture of a sweep to ``path`` (PNG/PDF/SVG): U_min(tilt), each bisection's bracket
+    """Save a picture of a sweep to ``path`` (its suffix picks the format: .png, .pdf, .svg or another
+    matplotlib writes; a path without one is refused): U_min(tilt), each bisection's bracket
     ``(U - resolution, U]`` drawn as an error bar below its top U; or the bounce domain in the (tilt,
     attack) plane.
 
     ``result``: a sweep result dict as :func:`run_sweep` or :func:`merge` return it (or its
     ``result.json``); anything else is refused with :class:`~jaxskip.ParameterError`."""
     _check_sweep_result(result)
+    check_picture_path("path", path)
     with writing(path):
         _sweep_figure(result).savefig(path, dpi=120)
 

@@ -225,3 +225,16 @@ def test_pictures_refuse_bad_arguments_by_name(held_disk):
         plot_throw({"trajectory": None})
     with pytest.raises(ParameterError, match=r"fps must be in \(0, 50\]"):
         animate_throw(wet, stone, "x.gif", fps=60)
+
+
+def test_a_picture_path_needs_a_format_suffix(held_disk, tmp_path):
+    """(session 32, a review) plot_throw(r, "h2") wrote h2.png, a file never named; an unknown suffix failed
+    only after the figure was drawn. Both refused before drawing, naming the formats; .jpg is matplotlib's."""
+    from jaxskip import ParameterError
+
+    for bad in ("h2", str(tmp_path / "h2"), tmp_path / ".png", "h2.tx"):
+        with pytest.raises(ParameterError, match=r"path must end in a picture format matplotlib writes \(.*png"):
+            plot_throw(held_disk, bad)
+    assert not any(tmp_path.iterdir())
+    plot_throw(held_disk, tmp_path / "h2.jpg")
+    assert (tmp_path / "h2.jpg").read_bytes()[:2] == b"\xff\xd8"   # a JPEG

@@ -323,3 +323,15 @@ def test_plot_functions_write_their_picture(tmp_path):
                                ("domain.pdf", domain_result(), plot_sweep)]:
         assert plot(result, tmp_path / name) is None
         assert (tmp_path / name).stat().st_size > 1000
+
+
+def test_a_picture_path_needs_a_format_suffix(tmp_path):
+    """(session 32, a review) a path without a suffix was saved with .png added, a file never named: refused
+    before drawing, as plot_throw refuses it."""
+    from jaxskip import ParameterError
+
+    for result, plot in [(gradient(NORMS, BOUNCES, POLISH), plot_search), (umin_result([3.0, 2.0, 2.5], [0, 0, 0]),
+                                                                           plot_sweep)]:
+        with pytest.raises(ParameterError, match="path must end in a picture format matplotlib writes"):
+            plot(result, tmp_path / "picture")
+    assert not any(tmp_path.iterdir())
