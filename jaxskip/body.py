@@ -49,7 +49,8 @@ class RigidStone:
     radius: jax.Array
     """() largest distance of a vertex from the centre of mass [m] (bounds the stone)."""
     thickness: jax.Array
-    """() extent of the stone along its body z axis (its face normal) [m]."""
+    """() extent of the stone along its body z axis (its face normal) [m]: the triangles' extent, for
+    reports and plots (the simulation does not use it; :meth:`check` refuses any other value)."""
 
     @property
     def n_triangles(self) -> int:
@@ -65,7 +66,8 @@ class RigidStone:
         passes through): the shapes above with one F; every number finite; ``mass`` > 0 with the
         density it implies through the mesh's volume in :data:`DENSITY_RANGE`; ``areas`` > 0;
         unit ``normals``; ``inertia`` diagonal (the principal frame) and positive definite with
-        ``inv_inertia`` its inverse; ``radius`` in :data:`RADIUS_RANGE` and at least the vertices' reach.
+        ``inv_inertia`` its inverse; ``radius`` in :data:`RADIUS_RANGE` and at least the vertices' reach;
+        ``thickness`` the triangles' extent along body z.
         (The mass distribution may differ from the mesh's uniform one: a weighted stone is allowed.)
         """
         leaves = {f.name: getattr(self, f.name) for f in dataclasses.fields(self)}
@@ -123,6 +125,11 @@ class RigidStone:
         if not RADIUS_RANGE[0] <= r <= RADIUS_RANGE[1] or r < reach * (1.0 - 1e-5):
             raise ParameterError(f"stone.radius must be in [{RADIUS_RANGE[0] * 1e3:g} mm, {RADIUS_RANGE[1]:g} m] and "
                                  f"at least the vertices' reach {reach:.4g} m, got {r!r}")
+        z = a["triangles"][..., 2]
+        extent = float(np.max(z) - np.min(z))
+        if abs(float(a["thickness"]) - extent) > 1e-5 * max(extent, 1e-12) + 1e-9:
+            raise ParameterError(f"stone.thickness must be the triangles' extent along body z, {extent:.6g} m, got "
+                                 f"{float(a['thickness'])!r}")
         return self
 
 

@@ -99,6 +99,13 @@ class Throw:
             given = float(np.broadcast_to(fields["speed"], shape)[~(speed > 0)].flat[0])
             raise ParameterError(f"speed must be finite and in (0, {MAX_SPEED:g}] m/s, got {given!r}, which is 0 in "
                                  f"{speed.dtype} (the float type JAX runs in)")
+        tilt = np.asarray(np.broadcast_to(fields["tilt"], shape), dtype=float_dtype())
+        edge = np.abs(tilt) >= np.asarray(math.pi / 2, dtype=tilt.dtype)   # the open range's end, as stored
+        if np.any(edge):
+            given = float(np.broadcast_to(fields["tilt"], shape)[edge].flat[0])
+            raise ParameterError(f"tilt must be in (-π/2, π/2) rad, i.e. (-90, 90) deg, got {given!r} rad "
+                                 f"({math.degrees(given):.10g} deg), which is ±π/2 in {tilt.dtype} (the float type "
+                                 "JAX runs in)")
         return cls(**{k: float_array(np.broadcast_to(a, shape)) for k, a in fields.items()})
 
     @classmethod

@@ -431,6 +431,9 @@ def _session_19_bad_inputs():
         (lambda: simulate(stone=replace(stone, inertia=stone.inertia.at[0, 1].set(1e-6).at[1, 0].set(1e-6))),
          "stone.inertia must be diagonal"),
         (lambda: simulate(stone=replace(stone, radius=jnp.asarray(0.01))), "stone.radius"),
+        # (session 32) a thickness that is not the mesh's (negative, here) passed check(), and was reported
+        (lambda: simulate(stone=replace(stone, thickness=-stone.thickness)),
+         r"stone.thickness must be the triangles' extent along body z, 0.012 m, got -0.012"),
         # text and bools passed float(): a config held a string, True counted as 1
         (lambda: SimConfig(duration=True), "duration must be a real number"),
         (lambda: SimConfig(dt="1e-4"), "dt must be a real number"),
@@ -712,7 +715,7 @@ def test_a_throw_of_lists_or_of_traced_values_is_refused_by_name():
         jax.grad(lambda s: simulate(Throw(s, 0.3, 0.1, 100.0, 0.001, 0.0), config=config).distance)(5.0)
 
 
-def test_a_speed_that_rounds_to_zero_is_refused_where_it_is_given(monkeypatch):
+def test_a_speed_that_rounds_to_zero_or_a_tilt_to_90_is_refused_where_it_is_given(monkeypatch):
     """In float32, speed=1e-46 m/s passed the (0, 100] check and was stored as 0, which simulate then refused
     as "got 0.0", a value the user never gave. (float32 storage stood in for by the dtype the check casts to.)"""
     import numpy as np
@@ -723,6 +726,11 @@ def test_a_speed_that_rounds_to_zero_is_refused_where_it_is_given(monkeypatch):
     with pytest.raises(ParameterError, match=r"got 1e-46, which is 0 in float32"):
         Throw.from_degrees(speed=1e-46)
     assert float(Throw.from_degrees(speed=1e-30).speed) > 0.0
+    # (session 32) so is a tilt inside (-90, 90) deg that is +-90 deg (+-pi/2) when stored
+    with pytest.raises(ParameterError, match=r"tilt must be in \(-π/2, π/2\) rad, i.e. \(-90, 90\) deg, got "
+                                             r"1.5707963266\d* rad \(89.99999999 deg\), which is ±π/2 in float32"):
+        Throw.from_degrees(tilt=89.99999999)
+    assert abs(float(Throw.from_degrees(tilt=-89.99).tilt)) < math.pi / 2
 
 
 def test_rollout_takes_a_float32_throw_under_x64():
