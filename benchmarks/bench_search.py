@@ -4,6 +4,7 @@ Run from the repository root::
 
     PYTHONPATH=. python benchmarks/bench_search.py            # full: 10^4-throw grid, 8-start search, 10^4 gradients
     PYTHONPATH=. python benchmarks/bench_search.py --quick    # smaller sizes
+    PYTHONPATH=. python benchmarks/bench_search.py --finite-only --finite-steps 20250   # 10^4 whole-rollout gradients
 
 Prints: the best true bounce count G of an exhaustive grid over the human box (speed 3-12 m/s,
 tilt 5-45 deg, attack 0-30 deg, spin 0-20 rev/s; default stone, free attitude), the gradient
@@ -118,13 +119,46 @@ def _chaos(box, config, n, horizons, out, seed=11, delta=0.5):
     return res
 
 
+def _finiteness(box, n_finite: int, steps: int, out: dict) -> int:
+    """The smooth count's gradient over ``n_finite`` random throws of ``box`` (seed 0), each differentiated
+    through ``steps`` steps (the whole rollout at 20250): how many are finite and non-zero, and their norms.
+    Returns the number finite."""
+    print(f"surrogate gradient finiteness: {n_finite} random throws, horizon {steps} steps ...")
+    fcfg = SimConfig(max_steps=steps, duration=100.0)
+    rigid, _ = resolve_stone("paper")
+    ff = make_objective("bounces", fcfg, rigid, water_params())
+    gf = jax.jit(lambda u: jax.lax.map(jax.grad(lambda ui: ff(box.to_throw(ui))), u))
+    rng = np.random.default_rng(0)
+    t0 = time.perf_counter()
+    finite = nonzero = 0
+    norms = []
+    for i in range(0, n_finite, 500):
+        m = min(500, n_finite - i)
+        uu = box.from_user({n: rng.uniform(lo, hi, m) for n, lo, hi in box.searched})
+        g = np.asarray(gf(uu))
+        finite += int(np.all(np.isfinite(g), axis=1).sum())
+        nonzero += int(np.any(g != 0, axis=1).sum())
+        norms.append(np.linalg.norm(g, axis=1))
+        print(f"  {i + m}/{n_finite}: {finite} finite so far ({time.perf_counter() - t0:.0f} s)", flush=True)
+    out["finite"] = {"throws": n_finite, "finite": finite, "nonzero": nonzero, "steps": steps,
+                     "wall_s": time.perf_counter() - t0}
+    norms = np.concatenate(norms)
+    norms = norms[np.isfinite(norms) & (norms > 0)]
+    print(f"  finite {finite}/{n_finite}, non-zero {nonzero}/{n_finite}; {time.perf_counter() - t0:.0f} s; "
+          f"|gradient| per unit u: median {np.median(norms):.3g}, 90th percentile {np.percentile(norms, 90):.3g} "
+          f"(a chaotic count: a step of 1e-3 in u changes the surrogate by ~|g| * 1e-3 bounces)")
+    return finite
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--quick", action="store_true", help="6^4 grid, 2 starts, 500 gradients")
     ap.add_argument("--per-axis", type=int, help="grid points per parameter (default 10: 10^4 throws)")
     ap.add_argument("--iterations", type=int, default=15, help="gradient-search iterations (default 15)")
     ap.add_argument("--finite-throws", type=int, help="random throws for the gradient finiteness check")
-    ap.add_argument("--finite-steps", type=int, default=1200, help="horizon [steps] of the finiteness check")
+    ap.add_argument("--finite-steps", type=int, default=1200,
+                    help="horizon [steps] of the finiteness check (20250: the whole rollout)")
+    ap.add_argument("--finite-only", action="store_true", help="run the finiteness check alone (no grid, no search)")
     ap.add_argument("--no-baselines", action="store_true",
                     help="skip the perturbation and random baselines (the perturbation one is slow: ~1 h in full)")
     ap.add_argument("--screen", type=int, default=0,
@@ -150,6 +184,12 @@ def main(argv=None):
     out = {"per_axis": per_axis, "starts": starts, "iterations": args.iterations, "screen": args.screen}
     n_chaos = args.chaos_throws if args.chaos_throws is not None else (64 if args.quick else 256)
     horizons = [int(h) for h in args.chaos_horizons.split(",")]
+    if args.finite_only:
+        _finiteness(box, n_finite, args.finite_steps, out)
+        if args.json:
+            with open(args.json, "w") as fh:
+                json.dump(out, fh, indent=1, default=float)
+        return
     if args.chaos_only:
         _chaos(box, config, n_chaos, horizons, out)
         if args.json:
@@ -245,29 +285,7 @@ def main(argv=None):
     if not args.no_baselines:
         ps, rs = _baselines(box, config, starts, args.iterations, equiv, out)
 
-    print(f"surrogate gradient finiteness: {n_finite} random throws, horizon {args.finite_steps} steps ...")
-    fcfg = SimConfig(max_steps=args.finite_steps, duration=100.0)
-    rigid, _ = resolve_stone("paper")
-    ff = make_objective("bounces", fcfg, rigid, water_params())
-    gf = jax.jit(lambda u: jax.lax.map(jax.grad(lambda ui: ff(box.to_throw(ui))), u))
-    rng = np.random.default_rng(0)
-    t0 = time.perf_counter()
-    finite = nonzero = 0
-    norms = []
-    for i in range(0, n_finite, 500):
-        m = min(500, n_finite - i)
-        uu = box.from_user({n: rng.uniform(lo, hi, m) for n, lo, hi in box.searched})
-        g = np.asarray(gf(uu))
-        finite += int(np.all(np.isfinite(g), axis=1).sum())
-        nonzero += int(np.any(g != 0, axis=1).sum())
-        norms.append(np.linalg.norm(g, axis=1))
-    out["finite"] = {"throws": n_finite, "finite": finite, "nonzero": nonzero, "steps": args.finite_steps,
-                     "wall_s": time.perf_counter() - t0}
-    norms = np.concatenate(norms)
-    norms = norms[np.isfinite(norms) & (norms > 0)]
-    print(f"  finite {finite}/{n_finite}, non-zero {nonzero}/{n_finite}; {time.perf_counter() - t0:.0f} s; "
-          f"|gradient| per unit u: median {np.median(norms):.3g}, 90th percentile {np.percentile(norms, 90):.3g} "
-          f"(a chaotic count: a step of 1e-3 in u changes the surrogate by ~|g| * 1e-3 bounces)")
+    finite = _finiteness(box, n_finite, args.finite_steps, out)
 
     if n_chaos:
         _chaos(box, config, n_chaos, horizons, out)
