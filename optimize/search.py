@@ -864,7 +864,8 @@ def _count_histogram(result: SearchResult) -> np.ndarray | None:
     if len(h) == 1 and "count_histogram" in h[0]:
         return np.asarray(h[0]["count_histogram"], dtype=int)
     if result.method == "local" and len(h) == 1:
-        return np.bincount(np.asarray(h[0]["bounces"], dtype=int))
+        counts = np.asarray(h[0]["bounces"], dtype=int)
+        return np.bincount(counts[counts >= 0], minlength=1)   # a diverged throw (DIVERGED_SCORE) has no count
     return None
 
 
@@ -880,7 +881,8 @@ def _histogram_figure(result: SearchResult, hist: np.ndarray):
     counts = np.arange(hist.size)
     best = result.best_bounces
     marked = (counts == best) & (hist > 0)
-    ax.bar(counts[~marked], hist[~marked], width=0.8, color="C0", label=f"throws per count ({n} throws in all)")
+    failed = f"; {result.diverged} more diverged, not drawn" if result.diverged else ""
+    ax.bar(counts[~marked], hist[~marked], width=0.8, color="C0", label=f"throws per count ({n} throws{failed})")
     if marked.any():
         k = int(hist[best])
         what = "the longest throw's count" if result.objective == "distance" else "the best count found"
@@ -900,10 +902,10 @@ def _histogram_figure(result: SearchResult, hist: np.ndarray):
     ax.set_xlim(-0.6, hist.size - 0.4)
     ax.set_xlabel("true bounce count (exact simulation) [bounces]")
     ax.set_ylabel("number of throws" + (" (log scale)" if log else ""))
-    per_axis = round(n ** (1.0 / max(len(result.box.searched), 1)))
+    per_axis = round((n + result.diverged) ** (1.0 / max(len(result.box.searched), 1)))   # the grid had them all
     what = {"grid": f"regular grid, {per_axis} per searched parameter", "random": "uniform random throws",
             "local": "random throws near centres"}
-    ax.set_title(f"{result.method} search ({what.get(result.method, 'exact throws')}, {n} throws): "
+    ax.set_title(f"{result.method} search ({what.get(result.method, 'exact throws')}, {n + result.diverged} throws): "
                  f"{_best_text(result)}\nat {_throw_text(result.best)}", fontsize=9)
     ax.legend(fontsize=8, loc="best")
     return fig

@@ -335,3 +335,21 @@ def test_a_picture_path_needs_a_format_suffix(tmp_path):
         with pytest.raises(ParameterError, match="path must end in a picture format matplotlib writes"):
             plot(result, tmp_path / "picture")
     assert not any(tmp_path.iterdir())
+
+
+def test_a_local_search_with_diverged_throws_is_drawn():
+    """(session 32, a review) a local search lists a diverged throw with count -1 (DIVERGED_SCORE): its
+    histogram met np.bincount's "no negative elements" ValueError. Drawn from the others, the diverged
+    ones said in the legend; a grid's title counts every throw."""
+    counts = [0, 2, 2, 5, -1, -1]
+    history = [{"iteration": 0, "phase": "polish", "bounces": counts, "distance": [1.0] * 6, "objective": None,
+                "best": 5, "nonfinite": 0, "points": {}}]
+    r = SearchResult("local", BEST, 5, history, make_box(), 1.0, 6, 0, best_distance=3.21, diverged=2)
+    (ax,) = _search_figure(r).axes
+    heights = {round(p.get_x() + p.get_width() / 2): p.get_height() for p in ax.patches}
+    assert {k: v for k, v in heights.items() if v} == {0: 1, 2: 2, 5: 1}
+    assert any("4 throws; 2 more diverged, not drawn" in t for t in legend_texts(ax)), legend_texts(ax)
+    assert "6 throws" in ax.get_title()
+    grid = exhaustive("grid", [1] * 79)      # 3^4 = 81 grid throws, 2 of which diverged
+    grid = SearchResult("grid", BEST, 1, grid.history, make_box(), 1.0, 81, 0, best_distance=3.21, diverged=2)
+    assert "3 per searched parameter, 81 throws" in _search_figure(grid).axes[0].get_title()
