@@ -499,7 +499,9 @@ def initial_state(throw: Throw, stone: RigidStone) -> StoneState:
 def initial_carry(config: SimConfig, throw: Throw, stone: RigidStone) -> tuple[StoneState, Tracker]:
     """The carry :func:`make_step`'s step starts from: the throw's release state
     (:func:`initial_state`) and an empty tracker (alive, no contact yet, ``config.max_contacts`` rows).
-    Pure; one throw (``vmap`` for batches)."""
+    Pure; one throw (``vmap`` for batches). Floating leaves are cast to JAX's float type first, as
+    :func:`rollout` casts them (the step casts its ``stone`` and ``water`` too)."""
+    throw, stone = _one_float_type(throw, stone)
     state = initial_state(throw, stone)
     return state, _new_tracker(config.max_contacts, state.position.dtype)
 
@@ -901,6 +903,7 @@ def make_step(config: SimConfig, surface=flat_surface, push: bool = False):
         return (state, dataclasses.replace(tr, log=None)), (row_idx, tr.log[row_idx]), rec, pushed
 
     def step(carry, stone: RigidStone, water: WaterParams):
+        stone, water = _one_float_type(stone, water)   # (a float32 stone under x64: the step computes in one type)
         # Out of play: skip the work (a real branch for one throw; under vmap it becomes a select
         # of both branches' outputs). The (K, 10) contact log is not an output of the branch: each
         # branch returns the one row to write, and the row is written here. Under vmap a select

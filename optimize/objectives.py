@@ -44,7 +44,8 @@ import jax.numpy as jnp
 
 from jaxskip import RigidStone, SimConfig, Throw, WaterParams
 from jaxskip._checks import ParameterError, check_positive
-from jaxskip.simulate import _scan, initial_carry, initial_state, make_step, rollout
+from jaxskip.simulate import (Record, _check_rollout_args, _one_float_type, _scan, initial_carry, initial_state,
+                              make_step, rollout)
 
 #: Default clearance level [m]: the tracker's ``SimConfig.bounce_clearance``.
 CLEARANCE = 1e-3
@@ -70,6 +71,12 @@ def soft_bounce_count(records, clearance: float = CLEARANCE, width: float = WIDT
     Steps taken out of play repeat the time and are ignored.
     """
     _check_knobs(clearance, width)
+    if not isinstance(records, Record):
+        raise ParameterError(f"records must be a jaxskip.Record (rollout's third output, with config.record=True), "
+                             f"got {type(records).__name__}")
+    if jnp.ndim(records.time) != 1 or jnp.shape(records.time)[0] < 2:
+        raise ParameterError(f"records must be one throw's, with one leading step axis (T,), T >= 2; got time of "
+                             f"shape {jnp.shape(records.time)} (for a batch, jax.vmap this function over it)")
     t, gap = records.time, records.gap
     s = jax.nn.sigmoid((gap - clearance) / width)
     live_next = t[1:] > t[:-1]  # the next record is a real step, not a frozen repeat
@@ -96,6 +103,8 @@ def soft_bounce_rollout(config: SimConfig, throw: Throw, stone: RigidStone, wate
     stacked). Pure, jit/vmap/grad-able.
     """
     _check_knobs(clearance, width)
+    _check_rollout_args(config, throw, stone, water)   # what rollout checks: types, one throw
+    throw, stone, water = _one_float_type(throw, stone, water)
     inner = make_step(dataclasses.replace(config, record=True))
 
     def step(carry, stone, water):

@@ -454,6 +454,38 @@ def test_make_objective_refuses_wrong_types(paper, water):
             make_objective("bounces", **args)
 
 
+def test_the_bounce_objective_checks_and_casts_as_rollout_does(paper, water):
+    """(session 32, a review of optimize) the "bounces" objective built its own scan: a float32 throw and stone
+    under x64 met a raw lax.cond TypeError, and a batched throw a broadcasting error, where rollout (and the
+    "distance" objective) cast or refuse; soft_bounce_count of a batch's records summed along the throws."""
+    from optimize import make_objective
+    from jaxskip import initial_carry, make_step
+
+    config = SimConfig(duration=0.05, max_steps=200, record=False)
+    f32 = lambda tree: jax.tree_util.tree_map(lambda a: jnp.asarray(a, jnp.float32), tree)  # noqa: E731
+    throw32, stone32, water32 = f32(Throw.from_degrees()), f32(paper), f32(water)
+    f64 = lambda tree: jax.tree_util.tree_map(lambda a: jnp.asarray(a, jnp.float64), tree)  # noqa: E731
+    f = make_objective("bounces", config, stone32, water32)
+    assert float(f(throw32)) == float(make_objective("bounces", config, f64(stone32), f64(water32))(f64(throw32)))
+    g = make_objective("bounces", config, paper, water)
+    with pytest.raises(ParameterError, match="rollout takes one throw"):
+        g(Throw.from_degrees(speed=np.array([6.0, 8.0])))
+    # the user's own loop (README: "your own loop"): a float32 throw and stone step in float64 too
+    step = make_step(config)
+    carry = initial_carry(config, throw32, stone32)
+    (state, tracker), _ = jax.lax.scan(lambda c, _: step(c, stone32, water32), carry, None, length=50)
+    assert state.position.dtype == jnp.float64
+    # records of a batch, or none
+    rec_config = SimConfig(duration=0.3, max_steps=1200)
+    _, tr, rec = jax.vmap(lambda t: rollout(rec_config, t, paper, water))(Throw.from_degrees(speed=np.array([6., 8.])))
+    counts = jax.vmap(soft_bounce_count)(rec)
+    assert np.all(np.abs(np.asarray(counts) - np.asarray(tr.bounces)) < 0.5)
+    with pytest.raises(ParameterError, match=r"one leading step axis \(T,\), T >= 2; got time of shape \(2, 1200\)"):
+        soft_bounce_count(rec)
+    with pytest.raises(ParameterError, match="records must be a jaxskip.Record .*got NoneType"):
+        soft_bounce_count(None)
+
+
 def test_plot_search_refuses_what_is_not_a_search_result(tmp_path):
     from optimize import plot_search
 
