@@ -10,10 +10,10 @@ so that an unconstrained optimiser never leaves the box:
 
 from __future__ import annotations
 
-from collections.abc import Mapping
-
 import dataclasses
 import math
+import types
+from collections.abc import Mapping
 
 import jax
 import jax.numpy as jnp
@@ -33,7 +33,9 @@ LIMITS = {
 #: The parameters a search may vary, in this order.
 PARAMETERS = tuple(LIMITS)
 #: The user's box of issue 4: a human throw (speed 3-12 m/s, tilt 5-45 deg, attack 0-30 deg, spin 0-20 rev/s).
-HUMAN_BOX = {"speed": (3.0, 12.0), "tilt": (5.0, 45.0), "attack": (0.0, 30.0), "spin": (0.0, 20.0)}
+#: Read-only (a change here changed every later default search): ``dict(HUMAN_BOX)`` gives a copy to edit.
+HUMAN_BOX = types.MappingProxyType({"speed": (3.0, 12.0), "tilt": (5.0, 45.0), "attack": (0.0, 30.0),
+                                    "spin": (0.0, 20.0)})
 
 
 def check_interval(name: str, value, low: float, high: float, *, unit: str = "",
@@ -200,7 +202,8 @@ def make_box(searched=None, held=None) -> Box:
     """Validate a search box, in user units: speed [m/s], tilt and attack [deg], spin [rev/s].
 
     ``searched``: {name: (low, high)} with low < high (default :data:`HUMAN_BOX`: speed 3-12 m/s, tilt
-    5-45 deg, attack 0-30 deg, spin 0-20 rev/s); ``held``: {name: value} for the others (defaults: speed
+    5-45 deg, attack 0-30 deg, spin 0-20 rev/s, less the parameters ``held`` gives: ``make_box(held={"tilt":
+    20.0})`` is the human box with the tilt held); ``held``: {name: value} for the others (defaults: speed
     8 m/s, tilt 20 deg, attack 5 deg, spin 20 rev/s). A name is one of :data:`PARAMETERS`, searched or
     held, not both; at least one is searched. Every bound and value lies within :data:`LIMITS`:
 
@@ -222,8 +225,8 @@ def make_box(searched=None, held=None) -> Box:
         if value is not None and not isinstance(value, Mapping):
             raise ParameterError(f"{label} must be a dict ({'{name: (low, high)}' if label == 'searched' else '{name: value}'}"
                                  f" in user units), got {type(value).__name__}")
-    searched = dict(HUMAN_BOX if searched is None else searched)
     held = dict(held or {})
+    searched = ({k: v for k, v in HUMAN_BOX.items() if k not in held} if searched is None else dict(searched))
     for name in list(searched) + list(held):
         if name not in LIMITS:
             raise ParameterError(f"unknown throw parameter {name!r}; choose from {', '.join(PARAMETERS)}")

@@ -560,11 +560,18 @@ def local_search(box: Box, centres: dict, *, throws: int = 256, scale: float = 0
     if held:  # (dropped silently before, even tilt 99 deg)
         raise ParameterError(f"centres gives {', '.join(held)}, held by the box, not searched: drop it from centres, "
                              "or search it (make_box({name: (low, high)}))")
+    unknown = sorted(map(repr, set(centres) - set(box.names)))
+    if unknown:  # (ignored before: a misspelt name ran as if it were not there)
+        raise ParameterError(f"centres gives {', '.join(unknown)}, not a searched parameter; the box searches "
+                             f"{', '.join(box.names)}")
     m = None
     for name, lo, hi in box.searched:
         if name not in centres:
             raise ParameterError(f"centres must give every searched parameter; missing {name!r}")
-        c = np.atleast_1d(np.asarray(centres[name], dtype=float))
+        try:
+            c = np.atleast_1d(np.asarray(centres[name], dtype=float))
+        except (TypeError, ValueError):
+            raise ParameterError(f"centres[{name!r}] must be numbers in user units, got {centres[name]!r:.60}") from None
         if c.ndim != 1 or c.size == 0 or (m is not None and c.size != m):
             raise ParameterError(f"centres[{name!r}] must be a non-empty 1-D array of the same length as the others")
         tol = 1e-9 * (hi - lo)  # to_user's rounding at a saturated coordinate may overshoot by an ulp

@@ -375,6 +375,9 @@ def test_every_search_checks_its_water(search, kwargs):
     # (session 31) a raw TypeError; a held parameter's centre (even tilt 99 deg) was dropped silently
     (None, {}, "centres must be a dict"),
     ({"speed": [5.0], "tilt": [99.0]}, {}, "centres gives tilt, held by the box"),
+    # (session 32) a raw ValueError naming nothing; a misspelt name ignored
+    ({"speed": ["a"]}, {}, r"centres\['speed'\] must be numbers in user units, got \['a'\]"),
+    ({"speed": [5.0], "height": [0.1]}, {}, "centres gives 'height', not a searched parameter; the box searches speed"),
 ])
 def test_local_search_bad_input(centres, kwargs, message):
     box = make_box({"speed": (3.0, 10.0)}, held={"tilt": 20.0, "attack": 10.0, "spin": 15.0})
@@ -411,6 +414,20 @@ def test_initial_may_not_give_a_held_parameter():
         gradient_search(box, initial={"speed": 5.0, "height": 1.0})
     with pytest.raises(ParameterError, match="initial speed must be in"):
         gradient_search(box, initial={"speed": 11.0})
+
+
+def test_the_default_box_less_what_is_held():
+    """(session 32) make_box(held={"tilt": 20}) was refused ("both searched and held": the default searched box
+    is the human box, tilt included); it is the human box with the tilt held. HUMAN_BOX is read-only (a change
+    to it changed every later default search)."""
+    import optimize
+
+    box = make_box(held={"tilt": 20.0})
+    assert box.names == ("speed", "attack", "spin") and dict(box.held) == {"tilt": 20.0}
+    assert box.searched == tuple((k, *v) for k, v in optimize.HUMAN_BOX.items() if k != "tilt")
+    with pytest.raises(TypeError):
+        optimize.HUMAN_BOX["speed"] = (3.0, 20.0)
+    assert make_box().searched[0] == ("speed", 3.0, 12.0)
 
 
 def test_searches_take_a_box_dict_such_as_human_box():
