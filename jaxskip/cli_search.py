@@ -232,9 +232,7 @@ def run_optimize(args) -> int:
                                  f"the screened throws; got {given['screen']}")
     search = {GRADIENT: gradient_search, PERTURBATION: perturbation_search, GRID: grid_search,
               RANDOM: random_search}[args.method]
-    progress = show_progress(args)  # on stderr: stdout keeps its one JSON object
-    if progress and args.method == GRADIENT:
-        print("compiling the gradient (once) ...", file=sys.stderr, flush=True)
+    progress = show_progress(args)  # on stderr: stdout keeps its one JSON object (the search says it compiles)
     r = search(box, stone=rigid, config=config, water=water, progress=progress,
                **{d: v for d, v in given.items() if v is not None})
     if args.plot:

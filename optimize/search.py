@@ -35,6 +35,7 @@ from __future__ import annotations
 import dataclasses
 import functools
 import numbers
+import sys
 import time
 from collections.abc import Mapping
 
@@ -422,10 +423,15 @@ def gradient_search(box: Box | None = None, *, objective: str = "bounces", stone
     u = float_array(box.from_user(points))
     args = (u, tuple(float_array(a) for a in box.numbers()), float_leaves(rigid), float_leaves(water),
             float_array(width))
+    if progress:  # (a compile of the whole throw's gradient: 10-40 s on 2 cores, silent otherwise)
+        print("  preparing the gradient program ...", file=sys.stderr, flush=True)
     t_compile, misses = time.perf_counter(), _surrogate_program.cache_info().misses
     value_and_grad, sharding = _surrogate_program(objective, program_config, box.layout, _signature(args))
     # 0 when an earlier search compiled the same program
     t_compile = time.perf_counter() - t_compile if _surrogate_program.cache_info().misses > misses else 0.0
+    if progress:
+        print(f"  {f'compiled in {t_compile:.1f} s' if t_compile else 'reused from an earlier search'}",
+              file=sys.stderr, flush=True)
     # from the host: a device array's device_put to the sharding compiles a slicing program first
     place = (lambda a: a) if sharding is None else (lambda a: jax.device_put(np.asarray(a), sharding))  # noqa: E731
     hyper = (float_array(learning_rate), float_array(clip))
@@ -457,8 +463,9 @@ def gradient_search(box: Box | None = None, *, objective: str = "bounces", stone
                         "grad_norm": norms, **({"screen": screened} if it == 0 and screened else {})})
         if progress:
             big = sum(1 for v in norms if v is None or v > EXPLODING)
-            line.update(f"  iteration {it + 1}/{iterations}: best {best.bounces} bounces, surrogate mean "
-                        f"{float(np.mean(obj)):.2f}, {big}/{starts} gradients exploding")
+            found = (f"longest {best.distance:.2f} m, mean distance {float(np.mean(obj)):.2f} m" if objective == "distance"
+                     else f"best {best.bounces} bounces, smooth count's mean {float(np.mean(obj)):.2f}")
+            line.update(f"  iteration {it + 1}/{iterations}: {found}, {big}/{starts} gradients exploding")
     if progress:
         line.close()
     if polish:
