@@ -34,7 +34,9 @@ from __future__ import annotations
 
 import dataclasses
 import functools
+import inspect
 import numbers
+import os
 import sys
 import time
 from collections.abc import Mapping
@@ -112,6 +114,13 @@ class SearchResult:
     :data:`DIVERGED_SCORE` (-1 bounces, -1 m), they are never the best, and the search issues one
     :class:`jaxskip.DivergedWarning` for them."""
 
+    settings: dict = dataclasses.field(default_factory=dict)
+    """What the search was run with, JSON-ready, so that it can be run again: every argument of the search
+    function as resolved (defaults included; ``seed``, ``starts``, ``iterations``, ``learning_rate``, ...,
+    user units), ``stone`` (its name or path, else its type and mass), ``config`` (every
+    :class:`jaxskip.SimConfig` field), ``water`` (every :class:`jaxskip.WaterParams` field [SI]) and
+    ``precision`` (``"float64"`` or ``"float32"``: what the search computed in)."""
+
     def to_dict(self) -> dict:
         """The result as a JSON-ready dict (``jaxskip optimize --json``), user units (m/s, deg, rev/s; times
         [s], distances [m]): every field by its name, ``box`` as :meth:`optimize.bounds.Box.to_dict`."""
@@ -119,7 +128,47 @@ class SearchResult:
                 "best_bounces": self.best_bounces, "best_distance": self.best_distance,
                 "history": self.history, "box": self.box.to_dict(), "wall_time": self.wall_time,
                 "forward_throws": self.forward_throws, "gradient_evals": self.gradient_evals,
-                "gradient_time": self.gradient_time, "compile_time": self.compile_time, "diverged": self.diverged}
+                "gradient_time": self.gradient_time, "compile_time": self.compile_time, "diverged": self.diverged,
+                "settings": self.settings}
+
+
+def _plain(value):
+    """``value`` as JSON-ready plain Python: arrays and NumPy numbers as lists and numbers, mappings as dicts."""
+    if isinstance(value, Mapping):
+        return {str(k): _plain(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [_plain(v) for v in value]
+    if isinstance(value, (np.ndarray, np.generic, jax.Array)):
+        return _plain(np.asarray(value).tolist())
+    return value
+
+
+def _recorded(search):
+    """``search`` with its :attr:`SearchResult.settings` filled in from the arguments it was called with."""
+    signature = inspect.signature(search)
+
+    @functools.wraps(search)
+    def run(*args, **kwargs):
+        result = search(*args, **kwargs)
+        bound = signature.bind(*args, **kwargs)
+        bound.apply_defaults()
+        given = dict(bound.arguments)
+        config = checked_config(given.pop("config"))
+        water = given.pop("water")
+        water = water_params(config.force.law) if water is None else water
+        stone = given.pop("stone")
+        rigid, _ = resolve_stone(stone)
+        given.pop("progress", None)
+        given.pop("box", None)  # (the result's own field)
+        settings = {**{k: _plain(v) for k, v in given.items()},
+                    "stone": (os.fspath(stone) if isinstance(stone, (str, os.PathLike))
+                              else f"a {type(stone).__name__} of {float(rigid.mass):.6g} kg"),
+                    "config": _plain(dataclasses.asdict(config)),
+                    "water": {f.name: float(getattr(water, f.name)) for f in dataclasses.fields(water)},
+                    "precision": "float64" if jax.config.jax_enable_x64 else "float32"}
+        return dataclasses.replace(result, settings=settings)
+
+    return run
 
 
 #: Raw gradient norm (before clipping) above which :func:`gradient_health` calls a gradient exploding: the
@@ -313,6 +362,7 @@ def _random_points(box: Box, n: int, rng) -> dict:
     return {name: rng.uniform(lo, hi, n) for name, lo, hi in box.searched}
 
 
+@_recorded
 def gradient_search(box: Box | None = None, *, objective: str = "bounces", stone="paper",
                     config: SimConfig | None = None, starts: int = 8, iterations: int = 20,
                     learning_rate: float = 0.3, clip: float = 1.0, width: float = WIDTH, seed: int = 0,
@@ -522,6 +572,7 @@ def top_throws(history: list, k: int, objective: str = "bounces") -> dict:
     return {n: pts[chosen, c] for c, n in enumerate(names)}
 
 
+@_recorded
 def local_search(box: Box, centres: dict, *, throws: int = 256, scale: float = 0.03, stone="paper",
                  config: SimConfig | None = None, lanes: int | None = None, seed: int = 0,
                  objective: str = "bounces", water: WaterParams | None = None, progress: bool = False) -> SearchResult:
@@ -682,6 +733,7 @@ def _surrogate_program(objective: str, config: SimConfig, layout: tuple, signatu
     return jax.jit(value_and_grad).lower(*abstract).compile(), sharding
 
 
+@_recorded
 def perturbation_search(box: Box | None = None, *, stone="paper", config: SimConfig | None = None,
                         starts: int = 8, iterations: int = 20, samples: int = 8, sigma: float = 0.3,
                         learning_rate: float = 0.3, seed: int = 0, polish: int = 0, polish_scale: float = 0.03,
@@ -794,6 +846,7 @@ def _exhaustive(method: str, box: Box, values: dict, stone, config: SimConfig, l
                         best_distance=best.distance, diverged=best.diverged)
 
 
+@_recorded
 def grid_search(box: Box | None = None, *, per_axis: int = 10, stone="paper", config: SimConfig | None = None,
                 lanes: int | None = None, water: WaterParams | None = None, progress: bool = False) -> SearchResult:
     """Exhaustive search: every point of a regular grid simulated exactly (``per_axis`` ** P throws for
@@ -824,6 +877,7 @@ def grid_search(box: Box | None = None, *, per_axis: int = 10, stone="paper", co
     return _exhaustive("grid", box, grid_points(box, per_axis), stone, config, lanes, progress, water)
 
 
+@_recorded
 def random_search(box: Box | None = None, *, throws: int = 1000, stone="paper", config: SimConfig | None = None,
                   lanes: int | None = None, seed: int = 0, water: WaterParams | None = None,
                   progress: bool = False) -> SearchResult:

@@ -596,3 +596,28 @@ def test_searches_never_pick_a_diverged_throw_and_warn_once():
         again = simulate_batch(Throw.from_degrees(speed=np.array([r.best["speed"]]), tilt=20.0, attack=10.0,
                                                   spin=10.0), stone, config=config)
         assert again.outcome_names[0] != "diverged" and int(again.bounces[0]) == r.best_bounces
+
+
+def test_a_search_records_what_it_ran_with_and_runs_again_from_it():
+    """(session 32, a review of optimize) a saved result held no seed, starts, iterations, learning rate,
+    config or precision: it could not be run again. ``settings`` holds every argument as resolved; a search
+    rebuilt from it (through JSON) gives the same result."""
+    import json
+
+    from jaxskip import ForceModel, water_params
+
+    import optimize
+
+    box = make_box({"speed": (5.0, 8.0), "tilt": (10.0, 30.0)}, {"attack": 5.0, "spin": 10.0})
+    r = optimize.gradient_search(box, config=SimConfig(duration=0.2, max_steps=800), starts=2, iterations=1,
+                                 seed=5, learning_rate=0.2, screen=4)
+    s = json.loads(json.dumps(r.to_dict()))["settings"]
+    assert (s["starts"], s["iterations"], s["seed"], s["learning_rate"], s["screen"], s["polish"]) == (2, 1, 5, 0.2, 4, 0)
+    assert s["stone"] == "paper" and s["precision"] == "float64" and s["config"]["duration"] == 0.2
+    config = SimConfig(**{k: v for k, v in s["config"].items() if k != "force"}, force=ForceModel(**s["config"]["force"]))
+    args = {k: v for k, v in s.items() if k not in ("stone", "config", "water", "precision")}
+    again = optimize.gradient_search(r.box, stone=s["stone"], config=config, water=water_params(**{
+        "c_lift": s["water"]["c_lift"], "c_friction": s["water"]["c_friction"]}), **args)
+    assert again.best == r.best and again.best_bounces == r.best_bounces and again.settings == r.settings
+    g = optimize.random_search(box, throws=3, seed=2, config=SimConfig(duration=0.1, max_steps=400))
+    assert (g.settings["throws"], g.settings["seed"], g.settings["lanes"]) == (3, 2, None)
