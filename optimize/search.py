@@ -752,8 +752,10 @@ def perturbation_search(box: Box | None = None, *, stone="paper", config: SimCon
     every count is an exact simulation. Nothing is differentiated,
     so the rollout's chaos (its pathwise gradients grow e-fold every ~40-50 ms of contact,
     benchmarks/README.md) does not reach the estimate: it is the estimator a chaotic count calls
-    for. ``starts`` random centres (an integer in [1, 4096]) each take ``iterations`` Adam steps (an
-    integer in [1, 10^5]) of ``learning_rate`` (in (0, 10], :data:`MAX_STEP`; unconstrained coordinates).
+    for. ``starts`` random centres (an integer in [1, 4096]) are each evaluated ``iterations`` times (an
+    integer in [1, 10^5]), with an Adam step of ``learning_rate`` between two evaluations
+    (``iterations - 1`` steps: one after the last would never be simulated); ``learning_rate`` in (0, 10]
+    (:data:`MAX_STEP`; unconstrained coordinates).
     ``polish`` (an integer in [0, 10^8]) / ``polish_scale`` (in (0, 1] [-]) as in
     :func:`gradient_search`: exact throws near the best (up to 4) distinct throws evaluated, centres
     and samples alike. Every history entry lists the centres it simulated under ``"points"`` (their
@@ -801,8 +803,9 @@ def perturbation_search(box: Box | None = None, *, stone="paper", config: SimCon
         scored = np.maximum(counts, 0)  # a diverged throw (DIVERGED_SCORE) counts as no bounce in the estimate
         diff = (scored[:, :samples] - scored[:, samples:2 * samples]).astype(float)
         g = np.einsum("sk,skp->sp", diff, eps) / (2.0 * sigma * samples)
-        u, state = _ascend_all(float_array(g), state, float_array(u), rate, clipped=False)
-        u = np.asarray(u)
+        if it + 1 < iterations:  # (a step after the last evaluation would never be simulated)
+            u, state = _ascend_all(float_array(g), state, float_array(u), rate, clipped=False)
+            u = np.asarray(u)
         centres = {k: np.asarray(v).reshape(starts, -1)[:, -1].tolist() for k, v in values.items()}
         history.append({"iteration": it, "bounces": counts[:, -1].tolist(), "objective": scored.mean(1).tolist(),
                         "best": best_n, "nonfinite": 0, "points": centres})

@@ -621,3 +621,16 @@ def test_a_search_records_what_it_ran_with_and_runs_again_from_it():
     assert again.best == r.best and again.best_bounces == r.best_bounces and again.settings == r.settings
     g = optimize.random_search(box, throws=3, seed=2, config=SimConfig(duration=0.1, max_steps=400))
     assert (g.settings["throws"], g.settings["seed"], g.settings["lanes"]) == (3, 2, None)
+
+
+def test_perturbation_search_takes_no_step_it_never_simulates(monkeypatch):
+    """(session 32, a review) the last iteration's Adam step was computed and thrown away: iterations
+    evaluations take iterations - 1 steps."""
+    import optimize
+
+    calls = []
+    real = search_module._ascend_all
+    monkeypatch.setattr(search_module, "_ascend_all", lambda *a, **k: calls.append(1) or real(*a, **k))
+    r = optimize.perturbation_search(make_box({"speed": (5.0, 8.0)}, {"tilt": 20.0, "attack": 5.0, "spin": 10.0}),
+                                     config=SimConfig(duration=0.1, max_steps=400), starts=2, iterations=3, samples=1)
+    assert len(calls) == 2 and len(r.history) == 3
