@@ -238,9 +238,10 @@ def gradient_health(result: SearchResult) -> dict | None:
 
 
 def _full(box: Box, values: dict) -> dict:
-    out = dict(box.held)
-    out.update({k: float(v) for k, v in values.items()})
-    return out
+    """A whole throw {parameter: value} (user units) from the searched ``values`` and the box's held ones,
+    in :data:`~optimize.bounds.PARAMETERS` order (speed, tilt, attack, spin)."""
+    out = {**dict(box.held), **{k: float(v) for k, v in values.items()}}
+    return {k: out[k] for k in PARAMETERS if k in out}
 
 
 #: The count and distance [m] a search gives a throw that diverged (outcome ``"diverged"``: its own count and

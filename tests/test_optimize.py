@@ -634,3 +634,4 @@ def test_perturbation_search_takes_no_step_it_never_simulates(monkeypatch):
     r = optimize.perturbation_search(make_box({"speed": (5.0, 8.0)}, {"tilt": 20.0, "attack": 5.0, "spin": 10.0}),
                                      config=SimConfig(duration=0.1, max_steps=400), starts=2, iterations=3, samples=1)
     assert len(calls) == 2 and len(r.history) == 3
+    assert list(r.best) == ["speed", "tilt", "attack", "spin"]   # (the held ones came first)
