@@ -145,8 +145,12 @@ class ThrowResult:
     """With a height field (``simulate(water_field=...)``): ``shape`` (nx, ny), ``spacing`` [m],
     ``depth`` [m], ``time_step`` [s] (the water's step, ``water_dt``), ``clamp``, ``boundary``
     (``"closed"`` or ``"sponge"``: the grid's :attr:`jaxskip.WaterGrid.boundary`), ``volume_change``
-    (relative change of the window's water volume over the run; the window exchanges water with
-    the lake at its sponge border, so it need not be 0) and
+    (relative change of the water volume in the window over the run: not a conservation check. The
+    window follows the stone, dropping the columns it leaves behind (with their ripples) and taking
+    in still water, and a sponge border relaxes towards rest, so it need not be 0 even on a closed grid;
+    it reads exactly 0 once the window has left all the disturbed water behind. The coupling itself
+    conserves volume: a closed window that does not move, under a stone dropped straight down, changes
+    by ~1e-14 in float64) and
     ``frames``: list of snapshots ``(time [s], origin (2,) [m], height (nx, ny) [m],
     position (3,) [m], orientation (4,))``, one per chunk."""
     rigid: RigidStone | None = None

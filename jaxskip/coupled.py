@@ -11,7 +11,8 @@ The stone sees the water it has disturbed, and the water feels the stone:
   triangle's immersed centroid as an external pressure :math:`F_{i,z}/l^2`
   (seed paper §3: forces become external pressure on the volume model).
   Pressure moves water but never creates or destroys it, so the coupling
-  conserves the water's volume. The horizontal (friction) part is not passed on.
+  conserves the water's volume (re-centring the window, below, does not: columns
+  leave it behind the stone and still ones come in). The horizontal (friction) part is not passed on.
 
 Scene-sized water ("model no more than the scene needs")
 --------------------------------------------------------

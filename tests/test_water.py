@@ -404,3 +404,40 @@ def test_gradients_stay_finite_and_right_as_columns_drain(clamp):
         h = 1e-3
         fd = float((loss(50.0 + h, n) - loss(50.0 - h, n)) / (2 * h))
         assert np.isfinite(grad) and abs(grad / fd - 1) < 1e-6, (n, grad, fd)
+
+
+def test_states_and_points_are_checked_where_they_enter():
+    """(session 32, a review of the water) each of these ran on: an integer height made an int state that
+    met a scan TypeError in run_water; bool, complex and text heights; bfloat16, whose clock stopped at 2 s;
+    a NaN or negative column in a hand-made state (the NaN filled the grid in 20 steps); pipes of the
+    wrong shape (a raw broadcasting error); deposit into an array of another shape (written to clamped
+    columns); total_volume of another grid's state."""
+    import dataclasses
+
+    import jax.numpy as jnp
+    import numpy as np
+
+    from jaxskip import ParameterError
+    from jaxskip.water import WaterGrid, deposit, run_water, still_water, total_volume
+
+    g = WaterGrid(shape=(16, 16), spacing=0.01, depth=0.05)
+    s = still_water(g, np.full((16, 16), 1))            # 1 m, written as an integer
+    assert jnp.issubdtype(s.height.dtype, jnp.floating) and float(run_water(g, s, 3).height[0, 0]) == 1.0
+    for bad, what in ((np.ones((16, 16), bool), "dtype bool"), (np.ones((16, 16), complex), "dtype complex128"),
+                      ("abc", "got str")):
+        with pytest.raises(ParameterError, match=f"height must be an \\(nx, ny\\) array of real column heights.*{what}"):
+            still_water(g, bad)
+    with pytest.raises(ParameterError, match="dtype must be float32 or float64: bfloat16 cannot hold the clock"):
+        still_water(g, dtype=jnp.bfloat16)
+    s = still_water(g)
+    for height, shown in ((s.height.at[3, 3].set(jnp.nan), "nan"), (s.height.at[3, 3].set(-1.0), "-1.0")):
+        with pytest.raises(ParameterError, match=f"state.height must be finite and >= 0 m in every column, got {shown}"):
+            run_water(g, dataclasses.replace(s, height=height), 20)
+    with pytest.raises(ParameterError, match=r"state.qx must have shape \(15, 16\) for the grid's shape \(16, 16\), got \(3, 3\)"):
+        run_water(g, dataclasses.replace(s, qx=jnp.zeros((3, 3))), 3)
+    with pytest.raises(ParameterError, match=r"into must have the grid's shape \(16, 16\), got \(4, 4\)"):
+        deposit(g, jnp.array([0.105]), jnp.array([0.105]), jnp.array([1.0]), into=jnp.zeros((4, 4)))
+    with pytest.raises(ParameterError, match="x, y and value must have one shape"):
+        deposit(g, jnp.array([0.1, 0.2]), jnp.array([0.1]), jnp.array([1.0]))
+    with pytest.raises(ParameterError, match=r"state.height must have shape \(16, 16\)"):
+        total_volume(g, still_water(WaterGrid(shape=(20, 20), depth=0.05)))
