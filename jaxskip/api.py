@@ -385,7 +385,8 @@ def simulate(
         two-way coupled water in a window that follows the stone (:mod:`jaxskip.coupled`);
         ``result.field`` then holds the grid, the volume change and a snapshot per chunk.
         The window is placed under the released stone (its ``origin`` is ignored), and its
-        ``gravity`` and ``rho`` must equal ``water``'s.
+        ``gravity`` and ``rho`` must equal ``water``'s; the window must span at least the stone's
+        diameter (``2 * radius``) along each side.
         Default None: flat water.
 
     Returns
@@ -425,6 +426,14 @@ def simulate(
         if not isinstance(water_field, WaterGrid):
             raise ParameterError(f"water_field must be a jaxskip.water.WaterGrid or None, got {water_field!r}")
         check_shared_constants(water_field, water, name="water_field")
+        # (a 4 cm window under a 10 cm stone ran: outside it the push is dropped and the surface read off
+        # the edge columns, an answer neither flat nor coupled)
+        span = min(water_field.shape) * water_field.spacing
+        if span < 2.0 * float(rigid.radius):
+            raise ParameterError(f"water_field must be at least as wide as the stone: its window spans {span:g} m "
+                                 f"({min(water_field.shape)} columns of {water_field.spacing:g} m), the stone "
+                                 f"{2.0 * float(rigid.radius):.3g} m; take more columns (jaxskip.coupled."
+                                 "default_window() spans 0.64 m)")
     misses = _chunk_runner.cache_info().misses
 
     def runner(n):

@@ -252,3 +252,14 @@ def test_volume_change_is_the_window_moving_not_the_coupling():
     assert drop.n_contacts >= 1 and abs(drop.field["volume_change"]) < 1e-12
     moving = simulate(Throw.from_degrees(), config=SimConfig(duration=0.02), water_field=grid, chunk=20)
     assert abs(moving.field["volume_change"]) > 1e-5   # columns left behind: not a leak
+
+
+def test_a_window_narrower_than_the_stone_is_refused():
+    """(session 32, a review) a 4 x 4 window of 1 cm under the 10 cm paper stone ran (5 bounces, against 2 on
+    the default window and 6 on flat water): an answer neither flat nor coupled."""
+    from jaxskip import ParameterError, SimConfig, simulate
+    from jaxskip.water import WaterGrid
+
+    with pytest.raises(ParameterError, match=r"water_field must be at least as wide as the stone: its window spans "
+                                             r"0.04 m \(4 columns of 0.01 m\), the stone 0.1 m"):
+        simulate(config=SimConfig(duration=0.2), water_field=WaterGrid(shape=(4, 4), spacing=0.01, depth=0.02))
