@@ -27,7 +27,7 @@ from ._checks import ParameterError, check_bool, check_int, check_positive, chec
 from .body import DENSITY_RANGE, RigidStone, rigid_stone
 from .forces import DEFAULT_COEFFICIENTS, WaterParams, water_params
 from .mesh import TriMesh
-from .coupled import check_shared_constants, default_water_dt, initial_field, make_coupled_step
+from .coupled import check_shared_constants, coupled_substeps, default_water_dt, initial_field, make_coupled_step
 from .simulate import (_ALIVE, DIVERGED, OUTCOMES, DivergedWarning, STEP_LIMIT, SimConfig, StoneState, Tracker, _new_tracker, _scan,
                        diverged_message, initial_state, make_step, warn_if_coarse, warn_if_unstable)
 from .stones import BUILTIN_STONES, load_stone
@@ -143,7 +143,9 @@ class ThrowResult:
     """Wall-clock time of the simulation, compile included [s]."""
     field: dict | None = None
     """With a height field (``simulate(water_field=...)``): ``shape`` (nx, ny), ``spacing`` [m],
-    ``depth`` [m], ``time_step`` [s] (the water's step, ``water_dt``), ``clamp``, ``boundary``
+    ``depth`` [m], ``time_step`` [s] (the interval at which the water advances, ``water_dt``),
+    ``substeps`` (the equal water steps each advance splits the time pending into,
+    :func:`jaxskip.coupled.coupled_substeps`: 1 with the default window), ``clamp``, ``boundary``
     (``"closed"`` or ``"sponge"``: the grid's :attr:`jaxskip.WaterGrid.boundary`), ``volume_change``
     (relative change of the water volume in the window over the run: not a conservation check. The
     window follows the stone, dropping the columns it leaves behind (with their ripples) and taking
@@ -476,7 +478,8 @@ def simulate(
     if water_field is not None:
         volume1 = float(total_volume(water_field, carry[2].water))
         field = {"shape": list(water_field.shape), "spacing": water_field.spacing, "depth": water_field.depth,
-                 "time_step": default_water_dt(water_field), "clamp": water_field.clamp,
+                 "time_step": default_water_dt(water_field),
+                 "substeps": coupled_substeps(config, water_field), "clamp": water_field.clamp,
                  "boundary": water_field.boundary, "volume_change": (volume1 - volume0) / volume0,
                  "frames": frames}
     state, tr = jax.device_get(carry[:2])

@@ -400,7 +400,8 @@ def _throw(args) -> int:
         if result.field:
             w = result.field
             _say(f"water: height field {w['shape'][0]}x{w['shape'][1]} columns of {w['spacing'] * 100:g} cm, "
-                 f"depth {w['depth'] * 100:g} cm, step {w['time_step'] * 1e3:g} ms, clamp {w['clamp']}; "
+                 f"depth {w['depth'] * 100:g} cm, step {w['time_step'] * 1e3:g} ms"
+                 + (f" in {w['substeps']} substeps" if w["substeps"] > 1 else "") + f", clamp {w['clamp']}; "
                  f"window volume change {w['volume_change']:+.2e} (relative; the window follows the stone, "
                  "leaving its wake behind: not a conservation check)")
         for label, key in (("picture", "plot"), ("ripples", "water_plot"), ("animation", "animate"),

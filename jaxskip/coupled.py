@@ -167,6 +167,14 @@ def advance_field(grid: WaterGrid, water_step, f: "Field", position, spread: int
     return Field(field, offset, jnp.zeros_like(f.impulse), zero)
 
 
+def coupled_substeps(config: SimConfig, grid: WaterGrid, water_dt: float | None = None) -> int:
+    """Water steps per advance of the coupled water (:func:`make_coupled_step`): enough equal steps, each
+    at most ``grid.time_step``, to cover the time an advance can find pending in contact,
+    ``max(config.dt, water_dt + min(config.dt, water_dt) / 2)`` (1 with the defaults)."""
+    water_dt = default_water_dt(grid) if water_dt is None else water_dt
+    return water_substeps(grid, max(config.dt, water_dt + 0.5 * min(config.dt, water_dt)))
+
+
 def make_coupled_step(config: SimConfig, grid: WaterGrid, water_dt: float | None = None, two_way: bool = True,
                       spread: int = 2):
     """Return the pure coupled step ``step(carry, stone, water) -> (carry, record)``.
@@ -199,7 +207,7 @@ def make_coupled_step(config: SimConfig, grid: WaterGrid, water_dt: float | None
     # than the water's stable step comes whole: substeps cover either, so the water keeps the stone's time
     # in contact (with water_dt near grid.time_step a single step was cut to time_step: 0.9 of every 1 ms
     # was stepped, and the push of the rest dropped).
-    substeps = water_substeps(grid, max(config.dt, water_dt + 0.5 * min(config.dt, water_dt)))
+    substeps = coupled_substeps(config, grid, water_dt)
     water_step = make_water_step(grid, clamp_blocks=tuple(
         tuple(min(n, max(8, math.ceil(side / grid.spacing))) for n in grid.shape) for side in CLAMP_BLOCKS))
     dt_max = grid.time_step
@@ -339,4 +347,4 @@ def rollout_coupled(config: SimConfig, grid: WaterGrid, throw: Throw, stone: Rig
     return state, tr.finish(), (recs if config.record else None), field
 
 
-__all__ = ["Field", "advance_field", "check_shared_constants", "default_water_dt", "default_window", "initial_field", "make_coupled_step", "recentre", "rollout_coupled"]
+__all__ = ["Field", "advance_field", "check_shared_constants", "coupled_substeps", "default_water_dt", "default_window", "initial_field", "make_coupled_step", "recentre", "rollout_coupled"]

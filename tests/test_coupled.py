@@ -263,3 +263,16 @@ def test_a_window_narrower_than_the_stone_is_refused():
     with pytest.raises(ParameterError, match=r"water_field must be at least as wide as the stone: its window spans "
                                              r"0.04 m \(4 columns of 0.01 m\), the stone 0.1 m"):
         simulate(config=SimConfig(duration=0.2), water_field=WaterGrid(shape=(4, 4), spacing=0.01, depth=0.02))
+
+
+def test_the_reported_water_step_says_its_substeps():
+    """(session 32, a review) with a grid step of 0.4 ms the coupling advances every 0.4 ms in two substeps
+    (0.5 ms pending after two stone steps of 0.25 ms), but reported only time_step 0.4 ms."""
+    from jaxskip import SimConfig, simulate
+    from jaxskip.coupled import coupled_substeps, default_window
+    from jaxskip.water import WaterGrid
+
+    fine = WaterGrid(shape=(16, 16), spacing=0.01, depth=0.02, dt=4e-4)
+    assert coupled_substeps(SimConfig(), fine) == 2 and coupled_substeps(SimConfig(), default_window()) == 1
+    r = simulate(config=SimConfig(duration=0.01), water_field=fine)
+    assert (r.field["time_step"], r.field["substeps"]) == (4e-4, 2)
