@@ -61,7 +61,7 @@ import numpy as np
 from ._docs import document_fields
 from .body import RigidStone
 from .forces import WaterParams
-from .simulate import SimConfig, _scan, initial_carry, make_step
+from .simulate import SimConfig, _check_rollout_args, _scan, initial_carry, make_step
 from ._checks import ParameterError, check_bool, check_int, check_range
 from .throw import Throw
 from .water import (WaterGrid, WaterState, _check_grid, deposit, height_at, make_water_step, still_water,
@@ -339,6 +339,7 @@ def rollout_coupled(config: SimConfig, grid: WaterGrid, throw: Throw, stone: Rig
     """
     _check_config(config)
     _check_grid(grid)
+    _check_rollout_args(config, throw, stone, water)   # (a batched throw met a raw broadcasting error)
     check_shared_constants(grid, water)
     state, tracker = initial_carry(config, throw, stone)
     carry = (state, tracker, initial_field(grid, state.position))

@@ -602,10 +602,11 @@ def make_water_step(grid: WaterGrid, clamp_blocks: tuple = ()):
         raise ParameterError(f"clamp_blocks must be a tuple of (bx, by) pairs, got {clamp_blocks!r}")
     for block in clamp_blocks:
         if (not isinstance(block, tuple) or len(block) != 2
-                or not all(isinstance(v, int) and not isinstance(v, bool) for v in block)
+                or not all(isinstance(v, numbers.Integral) and not isinstance(v, (bool, np.bool_)) for v in block)
                 or not (1 <= block[0] <= nx and 1 <= block[1] <= ny)):
             raise ParameterError(f"clamp_blocks: each block must be a tuple of 2 ints (bx, by) with "
                                  f"1 <= bx <= {nx} and 1 <= by <= {ny} (the grid's shape), got {block!r}")
+    clamp_blocks = tuple((int(bx), int(by)) for bx, by in clamp_blocks)   # (NumPy integers as Python ints)
     # A block keeps a column from either edge (its ring): one that cannot is the whole grid's work.
     blocks = tuple(b for b in clamp_blocks if b[0] <= nx - 2 and b[1] <= ny - 2)
 
@@ -709,6 +710,8 @@ def run_water(grid: WaterGrid, state: WaterState, steps: int, pressure=None):
     if not isinstance(state, WaterState):
         raise ParameterError(f"state must be a jaxskip.WaterState (see still_water), got {type(state).__name__}")
     _check_state(grid, state)
+    if pressure is not None and jnp.iscomplexobj(pressure):   # (the cast dropped the imaginary part, with a warning)
+        raise ParameterError("pressure must be real [Pa per column], got a complex array")
     dtype = state.height.dtype
     p = jnp.zeros(grid.shape, dtype) if pressure is None else jnp.asarray(pressure, dtype=dtype)
     if p.shape != grid.shape:

@@ -276,3 +276,15 @@ def test_the_reported_water_step_says_its_substeps():
     assert coupled_substeps(SimConfig(), fine) == 2 and coupled_substeps(SimConfig(), default_window()) == 1
     r = simulate(config=SimConfig(duration=0.01), water_field=fine)
     assert (r.field["time_step"], r.field["substeps"]) == (4e-4, 2)
+
+
+def test_rollout_coupled_refuses_a_batched_throw(paper, water):
+    """(session 32, a review) a (2,) speed given to rollout_coupled without vmap met a raw broadcasting error."""
+    import numpy as np
+
+    from jaxskip import ParameterError, SimConfig, Throw
+    from jaxskip.coupled import default_window, rollout_coupled
+
+    with pytest.raises(ParameterError, match="rollout takes one throw"):
+        rollout_coupled(SimConfig(max_steps=10), default_window(), Throw.from_degrees(speed=np.array([6.0, 8.0])),
+                        paper, water)

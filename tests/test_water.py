@@ -441,3 +441,21 @@ def test_states_and_points_are_checked_where_they_enter():
         deposit(g, jnp.array([0.1, 0.2]), jnp.array([0.1]), jnp.array([1.0]))
     with pytest.raises(ParameterError, match=r"state.height must have shape \(16, 16\)"):
         total_volume(g, still_water(WaterGrid(shape=(20, 20), depth=0.05)))
+
+
+def test_clamp_blocks_take_numpy_integers_and_pressures_must_be_real():
+    """(session 32, a review) WaterGrid.shape takes NumPy integers but clamp_blocks refused them; a complex
+    pressure was cast with only a ComplexWarning, its imaginary part dropped."""
+    import jax.numpy as jnp
+    import numpy as np
+
+    from jaxskip import ParameterError
+    from jaxskip.water import WaterGrid, make_water_step, run_water, still_water
+
+    g = WaterGrid(shape=(16, 16), spacing=0.01, depth=0.05)
+    push = jnp.zeros((16, 16)).at[8, 8].set(100.0)
+    a = make_water_step(g, clamp_blocks=((np.int64(8), np.int32(8)),))(still_water(g), push)
+    b = make_water_step(g, clamp_blocks=((8, 8),))(still_water(g), push)
+    np.testing.assert_array_equal(np.asarray(a.height), np.asarray(b.height))
+    with pytest.raises(ParameterError, match="pressure must be real"):
+        run_water(g, still_water(g), 2, pressure=np.ones((16, 16), complex))
