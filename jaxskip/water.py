@@ -665,6 +665,11 @@ def make_water_step(grid: WaterGrid, clamp_blocks: tuple = ()):
         height = h - (dt / area) * _net_out(*flows)
         if grid.clamp == "zero":
             height = jnp.maximum(height, 0.0)
+        else:
+            # A column the clamp emptied can land a rounding below zero (-1.4e-35 m in float32, after a 1e5 Pa
+            # push was lifted; not traced to its cause, likely a subnormal volume in the clamp's test): set to 0,
+            # a volume change of that rounding. (where, not maximum: at h = 0 exactly the gradient passes whole.)
+            height = jnp.where(height < 0.0, jnp.zeros_like(height), height)
         if grid.boundary == "sponge":
             keep_col, keep_pipes = _sponge_keep(grid, dt)   # implicit relaxation towards rest
             height = H + (height - H) * keep_col
