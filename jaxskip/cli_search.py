@@ -399,12 +399,13 @@ def run_sweep_command(args) -> int:
                          f"of {res:.2g} m/s")
             tied = [f"{t:g}" for t, v, n_low, n_failed in zip(spec["tilts"], result["umin"], result["bounces_at_low"],
                                                               failed) if v == u and not n_low and not n_failed]
-            if u > low and len(tied) > 1:  # the first of equal answers is not a minimum
+            tie = u > low and len(tied) > 1   # the first of equal answers is not a minimum
+            if tie:
                 _say(f"magic angle: no single minimum: tilts {', '.join(tied)} deg tie at U_min {u:.2f} m/s ({where}; "
                      "more --iterations narrow the bracket)")
             else:
                 _say(f"magic angle: {result['best_tilt']:g} deg, U_min {u:.2f} m/s ({where})")
-            if result["best_tilt_fit"] is not None and not (u > low and len(tied) > 1):
+            if result["best_tilt_fit"] is not None and not tie:
                 _say(f"  between grid points (parabola through its neighbours): {result['best_tilt_fit']:.1f} deg, "
                      f"U_min {result['best_umin_fit']:.2f} m/s")
     else:

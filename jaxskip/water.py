@@ -328,10 +328,8 @@ def still_water(grid: WaterGrid, height=None, dtype=None) -> WaterState:
         if raw is None or raw.dtype.kind not in "iuf":   # not text, True/False or complex numbers
             raise ParameterError(f"height must be an (nx, ny) array of real column heights [m], got "
                                  f"{type(height).__name__}{'' if raw is None else f' of dtype {raw.dtype}'}")
-        h = raw.astype(np.float64)
-        if h.shape == grid.shape and not (np.all(np.isfinite(h)) and np.all(h >= 0.0)):
-            bad = float(h[~(np.isfinite(h) & (h >= 0.0))].flat[0])
-            raise ParameterError(f"height must be finite and >= 0 m in every column, got {bad!r}")
+        if raw.shape == grid.shape:
+            _check_heights("height", raw)
         if raw.dtype.kind in "iu" or (dtype is None and raw.dtype.itemsize < 4):   # whole metres: still a float
             height = raw.astype(jnp.result_type(float))
     height = jnp.asarray(height, dtype=dtype)
@@ -739,12 +737,16 @@ def _check_state(grid: WaterGrid, state) -> None:
         got = tuple(jnp.shape(getattr(state, name)))
         if got != want:
             raise ParameterError(f"state.{name} must have shape {want} for the grid's shape {grid.shape}, got {got}")
-    h = state.height
-    if not isinstance(h, jax.core.Tracer):
-        h = np.asarray(h, dtype=np.float64)
-        ok = np.isfinite(h) & (h >= 0.0)
-        if not np.all(ok):
-            raise ParameterError(f"state.height must be finite and >= 0 m in every column, got {float(h[~ok].flat[0])!r}")
+    if not isinstance(state.height, jax.core.Tracer):
+        _check_heights("state.height", state.height)
+
+
+def _check_heights(name: str, height) -> None:
+    """Concrete column heights [m]: finite and >= 0 in every column, else a ParameterError naming ``name``."""
+    h = np.asarray(height, dtype=np.float64)
+    ok = np.isfinite(h) & (h >= 0.0)
+    if not np.all(ok):
+        raise ParameterError(f"{name} must be finite and >= 0 m in every column, got {float(h[~ok].flat[0])!r}")
 
 
 def total_volume(grid: WaterGrid, state: WaterState):

@@ -157,12 +157,11 @@ def _recorded(search):
         water = given.pop("water")
         water = water_params(config.force.law) if water is None else water
         stone = given.pop("stone")
-        rigid, _ = resolve_stone(stone)
         given.pop("progress", None)
         given.pop("box", None)  # (the result's own field)
         settings = {**{k: _plain(v) for k, v in given.items()},
                     "stone": (os.fspath(stone) if isinstance(stone, (str, os.PathLike))
-                              else f"a {type(stone).__name__} of {float(rigid.mass):.6g} kg"),
+                              else f"a {type(stone).__name__} of {float(resolve_stone(stone)[0].mass):.6g} kg"),
                     "config": _plain(dataclasses.asdict(config)),
                     "water": {f.name: float(getattr(water, f.name)) for f in dataclasses.fields(water)},
                     "precision": "float64" if jax.config.jax_enable_x64 else "float32"}
