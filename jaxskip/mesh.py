@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import re
 import os
 import stat
 from pathlib import Path
@@ -482,6 +483,10 @@ def mass_properties(mesh: TriMesh, *, density: float | None = None,
 # ---------------------------------------------------------------------------
 
 _IGNORED_OBJ_KEYWORDS = frozenset({"vn", "vt", "o", "g", "s", "usemtl", "mtllib"})
+_OBJ_NUMBER = re.compile(r"[+-]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][+-]?[0-9]+)?|[+-]?(?:nan|inf|infinity)",
+                         re.ASCII | re.IGNORECASE)
+# A face entry: i, i/t, i/t/n or i//n (ASCII digits; "1/x/1", "1/" or "1/2/3/4" are malformed).
+_OBJ_FACE_ENTRY = re.compile(r"([+-]?[0-9]+)(?:/-?[0-9]+(?:/-?[0-9]+)?|//-?[0-9]+)?", re.ASCII)
 
 
 def _obj_vertex(fields: list[str]) -> list[float]:
@@ -490,13 +495,29 @@ def _obj_vertex(fields: list[str]) -> list[float]:
     malformed."""
     if len(fields) not in (3, 4, 6):
         raise ValueError("a vertex needs 3 coordinates (and optionally w, or a colour r g b)")
-    try:
-        xyz = [float(t) for t in fields]
-    except ValueError:
-        raise ValueError("vertex coordinates must be numbers") from None
+    # Plain ASCII decimals only: float() also reads "0.0_1" as 0.01 and full-width or Arabic-Indic digits.
+    if not all(_OBJ_NUMBER.fullmatch(t) for t in fields):
+        raise ValueError("vertex coordinates must be numbers (plain ASCII decimals, such as -1.5e-3)")
+    xyz = [float(t) for t in fields]
     if not all(math.isfinite(x) for x in xyz):
         raise ValueError("vertex coordinates must be finite")
     return xyz[:3]
+
+
+def _check_fan(vertices: list[list[float]], idx: list[int]) -> None:
+    """ValueError unless the fan ``(0, k, k+1)`` of polygon ``idx`` is a triangulation of it: every fan
+    triangle must turn the same way as the polygon (its Newell normal). A polygon that is not convex as
+    seen from its first vertex (an L-shaped face listed from its reflex corner) fans into overlapping
+    triangles, one facing into the stone, which the mesh's edge and volume checks cannot see."""
+    p = np.asarray([vertices[k] for k in idx], dtype=np.float64)
+    newell = np.cross(p, np.roll(p, -1, axis=0)).sum(axis=0)
+    fan = np.cross(p[1:-1] - p[0], p[2:] - p[0])
+    turn = fan @ newell
+    if not np.all(turn > 1e-12 * np.linalg.norm(fan, axis=1) * np.linalg.norm(newell)):
+        raise ValueError(f"the {len(idx)}-sided face is not convex as seen from its first vertex, so it cannot be "
+                         "fan-triangulated (its triangles would overlap and fold inwards); triangulate it in the "
+                         "exporting program (e.g. Blender's Triangulate modifier) or list it from a corner that "
+                         "sees every edge")
 
 
 def _obj_face(fields: list[str], n_vertices: int) -> list[int]:
@@ -510,10 +531,10 @@ def _obj_face(fields: list[str], n_vertices: int) -> list[int]:
         raise ValueError("a face needs at least 3 vertices")
     indices = []
     for field in fields:
-        try:
-            i = int(field.split("/", 1)[0])
-        except ValueError:
-            raise ValueError(f"bad face entry {field[:20]!r} (expected i, i/t, i/t/n or i//n)") from None
+        entry = _OBJ_FACE_ENTRY.fullmatch(field)
+        if entry is None:
+            raise ValueError(f"bad face entry {field[:20]!r} (expected i, i/t, i/t/n or i//n, integers)")
+        i = int(entry.group(1))
         k = i - 1 if i > 0 else n_vertices + i
         if i == 0 or not 0 <= k < n_vertices:
             raise ValueError(f"vertex index {i} does not refer to one of the {n_vertices} "
@@ -529,7 +550,8 @@ def read_obj(path: str | os.PathLike, *, name: str | None = None) -> TriMesh:
     ``f i j k ...`` lines whose entries may be ``i``, ``i/t``, ``i/t/n`` or
     ``i//n``; indices are 1-based, negative ones count back from the last
     vertex defined so far.  Polygons with more than 3 vertices are
-    fan-triangulated ``(0, k, k+1)``.  Lines starting with ``vn vt o g s
+    fan-triangulated ``(0, k, k+1)``; one that is not convex as seen from its
+    first vertex (the fan would fold) is refused.  Numbers are plain ASCII.  Lines starting with ``vn vt o g s
     usemtl mtllib``, comments (``#``) and blank lines are ignored; anything
     else is an error.  Nothing is ever evaluated.
 
@@ -597,6 +619,8 @@ def read_obj(path: str | os.PathLike, *, name: str | None = None) -> TriMesh:
                 idx = _obj_face(tokens[1:], len(vertices))
                 if len(faces) + len(idx) - 2 > MAX_OBJ_TRIANGLES:
                     raise ValueError(f"more than {MAX_OBJ_TRIANGLES} triangles")
+                if len(idx) > 3 and len(set(idx)) == len(idx):   # (a repeated vertex: a degenerate triangle, below)
+                    _check_fan(vertices, idx)
                 faces.extend((idx[0], idx[k], idx[k + 1]) for k in range(1, len(idx) - 1))
             else:
                 raise ValueError(f"unsupported statement {tokens[0][:20]!r}")

@@ -272,6 +272,33 @@ def test_read_obj_triangulates_quads(tmp_path):
     np.testing.assert_array_equal(back.faces, mesh.faces)
 
 
+def _l_prism_obj(start: int) -> str:
+    """An L-shaped prism (4 x 4 x 0.6 cm) with its two 6-sided faces listed from corner ``start``."""
+    corners = np.array([[0, 0], [2, 0], [2, 1], [1, 1], [1, 2], [0, 2]], float) * 0.02
+    lines = [f"v {x!r} {y!r} 0.006" for x, y in corners.tolist()] + [f"v {x!r} {y!r} 0.0" for x, y in corners.tolist()]
+    lines.append("f " + " ".join(str((start + k) % 6 + 1) for k in range(6)))
+    lines.append("f " + " ".join(str((start - k) % 6 + 7) for k in range(6)))
+    lines += [f"f {i + 1} {i + 7} {(i + 1) % 6 + 7} {(i + 1) % 6 + 1}" for i in range(6)]
+    return "\n".join(lines) + "\n"
+
+
+def test_read_obj_refuses_a_polygon_that_fans_into_folded_triangles(tmp_path):
+    """(session 33) An L-shaped face listed from a corner that does not see every edge fanned into
+    overlapping triangles, one facing into the stone; the mesh stayed closed with the right volume, so it
+    passed validation, and the stone loaded a third more bottom area than it has (4 bounces instead of 10).
+    Listed from its reflex corner the same face fans correctly and is read."""
+    good = tmp_path / "good.obj"
+    good.write_text(_l_prism_obj(3))
+    mesh = read_obj(good)
+    up = mesh.normals[:, 2] > 0.5
+    assert mesh.areas[up].sum() == pytest.approx(3 * 0.02 ** 2, rel=1e-12)    # the L's area, 3 unit squares
+    assert mass_properties(mesh, density=1.0).volume == pytest.approx(3 * 0.02 ** 2 * 0.006, rel=1e-12)
+    bad = tmp_path / "bad.obj"
+    bad.write_text(_l_prism_obj(1))
+    with pytest.raises(MeshError, match=r"bad.obj, line 13: the 6-sided face is not convex as seen from its first vertex"):
+        read_obj(bad)
+
+
 def test_read_obj_takes_vertex_colours(tmp_path):
     """(session 32) ``v x y z r g b``, as MeshLab and photogrammetry tools write a scanned object, was
     refused ("a vertex needs 3 coordinates"): the colour is ignored, the mesh is the same."""
@@ -286,7 +313,10 @@ def test_read_obj_takes_vertex_colours(tmp_path):
 
 
 @pytest.mark.parametrize("bad_line", ["v 1 2", "v 1 2 x", "v 1 2 3 4 5", "v 1 2 3 0.5 x 1", "f 1 2", "f 1 2 9", "f 0 1 2",
-                                      "f a/1 2 3", "l 1 2", "import os"])
+                                      "f a/1 2 3", "l 1 2", "import os",
+                                      # (session 33: each read as a plain number before)
+                                      "f 1/x/1 2 3", "f 1/2/3/4 2 3", "f 1/ 2 3", "f 1// 2 3", "v 0.0_1 0 0",
+                                      "v \uff10 0 0", "v 0 \u0661 0"])
 def test_read_obj_malformed_lines(tmp_path, bad_line):
     lines = TETRA_OBJ.splitlines()
     lines.insert(5, bad_line)  # becomes line 6
