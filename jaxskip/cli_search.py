@@ -375,9 +375,13 @@ def run_sweep_command(args) -> int:
     if spec["kind"] == "umin":
         low, high = spec["speed_range"]
         failed = result.get("diverged") or [0] * len(spec["tilts"])
-        for t, u, n_low, n_failed in zip(spec["tilts"], result["umin"], result["bounces_at_low"], failed):
+        cut = result.get("cut_off") or [0] * len(spec["tilts"])
+        for t, u, n_low, n_failed, n_cut in zip(spec["tilts"], result["umin"], result["bounces_at_low"], failed, cut):
             if n_failed:
                 shown = f"no U_min: {n_failed} of its bisection throws diverged (take a smaller --dt)"
+            elif n_cut:
+                shown = (f"no U_min: {n_cut} of its bisection throws were still in their first contact or flight at "
+                         f"--duration {spec['config']['duration']:g} s (raise --duration)")
             elif u is None:
                 shown = f"no bounce up to {high:g} m/s"
             elif n_low > 0:
@@ -413,9 +417,12 @@ def run_sweep_command(args) -> int:
 
         b = np.asarray(result["bounces"])
         failed = np.asarray(result.get("diverged") or np.zeros(b.shape), dtype=bool)
+        cut = np.asarray(result.get("cut_off") or np.zeros(b.shape), dtype=bool)
         _say(f"bounce domain at {spec['speed']:g} m/s: {int((b > 0).sum())} of {b.size} (tilt, attack) pairs bounce;"
              f" most bounces {int(b.max())}" + (f"; {int(failed.sum())} diverged (their counts mean nothing: take a "
-                                                 f"smaller --dt)" if failed.any() else ""))
+                                                 f"smaller --dt)" if failed.any() else "")
+             + (f"; {int(cut.sum())} still skipping at --duration {spec['config']['duration']:g} s (their counts are "
+                "lower bounds: raise --duration)" if cut.any() else ""))
     if args.out:
         _say(f"results: {args.out}/result.json, {args.out}/result.csv")
     if args.plot:

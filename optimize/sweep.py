@@ -46,6 +46,7 @@ import math
 import numbers
 import os
 import sys
+import warnings
 from collections.abc import Iterable
 from pathlib import Path
 
@@ -59,6 +60,7 @@ from jaxskip._files import check_picture_path, writing
 from jaxskip._progress import ProgressLine
 from jaxskip.forces import DEFAULT_COEFFICIENTS
 from jaxskip.settings import SIM_DEFAULTS, describe, simulation
+from jaxskip.simulate import AccuracyWarning
 from jaxskip.stones import BUILTIN_STONES
 from jaxskip.throw import MAX_SPEED, MAX_SPIN_REVS
 
@@ -88,7 +90,10 @@ THROW_LIMITS = {
 }
 #: The lists of numbers each kind's chunk file holds, one entry per work item: counts (non-negative
 #: integers) and values (finite numbers or null).
-CHUNK_COUNTS = {"domain": ("bounces", "diverged"), "umin": ("bounces_at_high", "bounces_at_low", "diverged")}
+CHUNK_COUNTS = {"domain": ("bounces", "diverged", "cut_off"),
+                "umin": ("bounces_at_high", "bounces_at_low", "diverged", "cut_off")}
+#: Outcomes of a throw still in play when the run stopped it (its count is a lower bound).
+CUT_OFF = ("time_limit", "step_limit")
 CHUNK_VALUES = {"domain": ("first_contact_time",), "umin": ("umin",)}
 
 
@@ -304,9 +309,11 @@ def _domain_chunk(spec: SweepSpec, sim, index: np.ndarray, progress: bool) -> di
     # "first_contact_time": the first contact's duration [s] (t_end - t_start), NaN (None in the file) where
     # there was no contact or it never ended in a bounce; not the time at which it happened.
     first = np.where(np.isfinite(t_end), t_end - t_start, np.nan)
-    # "diverged": 1 where the throw's integration failed (outcome 'diverged'): its count means nothing
+    # "diverged": 1 where the throw's integration failed (outcome 'diverged'): its count means nothing;
+    # "cut_off": 1 where it was still in play at the duration or step limit: its count is a lower bound
+    cut = np.isin(r.outcome_names, CUT_OFF)
     return {"bounces": r.bounces.tolist(), "first_contact_time": [_num(x) for x in first],
-            "diverged": diverged.astype(int).tolist()}
+            "diverged": diverged.astype(int).tolist(), "cut_off": cut.astype(int).tolist()}
 
 
 def _umin_chunk(spec: SweepSpec, sim, index: np.ndarray, progress: bool) -> dict:
@@ -315,12 +322,15 @@ def _umin_chunk(spec: SweepSpec, sim, index: np.ndarray, progress: bool) -> dict
     hi = np.full(len(index), spec.speed_range[1])
 
     failed = np.zeros(len(index), int)  # the tilt's bisection throws that diverged
+    unknown = np.zeros(len(index), int)  # ...and those cut off by the duration or step limit before a bounce
 
     def bounces(speed):
-        nonlocal failed
+        nonlocal failed, unknown
         throws = Throw.from_degrees(speed=speed, tilt=tilt, attack=spec.attacks[0], spin=spec.spin)
         r, diverged = _batch(throws, sim, False)
         failed = failed + diverged
+        # no bounce yet when the run stopped it: whether it would bounce is unknown, not "no"
+        unknown = unknown + (np.isin(r.outcome_names, CUT_OFF) & (np.asarray(r.bounces) == 0))
         return r.bounces
 
     at_high = bounces(hi)
@@ -337,8 +347,10 @@ def _umin_chunk(spec: SweepSpec, sim, index: np.ndarray, progress: bool) -> dict
     umin = np.where(at_low > 0, spec.speed_range[0], np.where(at_high > 0, hi, np.nan))
     # a bisection that met a diverged throw took a step on a count that means nothing: no U_min there
     umin = np.where(failed > 0, np.nan, umin)
+    # ...and so did one that took a throw cut off before its first bounce for one that does not bounce
+    umin = np.where(unknown > 0, np.nan, umin)
     return {"umin": [_num(x) for x in umin], "bounces_at_high": at_high.tolist(), "bounces_at_low": at_low.tolist(),
-            "diverged": failed.tolist()}
+            "diverged": failed.tolist(), "cut_off": unknown.tolist()}
 
 
 def _num(x) -> float | None:
@@ -486,6 +498,7 @@ def run_sweep(spec: SweepSpec, out_dir=None, *, shard_index: int = 0, num_shards
             results[j] = data
             computed += 1
     _warn_diverged(spec, list(results.values()), sim[0])
+    _warn_cut_off(spec, list(results.values()), sim[0])
     if len(results) < len(chunks):
         return None
     result = assemble(spec, [results[j] for j in range(len(chunks))])
@@ -505,6 +518,25 @@ def _warn_diverged(spec: SweepSpec, chunks: list[dict], config) -> None:
         bad = sum(1 for c in chunks for n in c["diverged"] if n)
         what, treatment = "U_min sweep", f"{bad} tilt(s) have no U_min ('diverged' counts them per tilt)"
     warn_diverged(failed, total, what, treatment, config, stacklevel=3)
+
+
+def _warn_cut_off(spec: SweepSpec, chunks: list[dict], config) -> None:
+    """One :class:`jaxskip.AccuracyWarning` for the chunks a run holds, if any throw was still in play at the
+    duration or step limit (domain: its count is a lower bound; U_min: the tilt has no U_min)."""
+    cut = sum(sum(c["cut_off"]) for c in chunks)
+    if not cut:
+        return
+    total = sum(len(c["items"]) for c in chunks)
+    if spec.kind == "domain":
+        what = (f"{cut} of the {total} throws of this domain sweep were still skipping when the run stopped them: "
+                "their counts are lower bounds (1 in 'cut_off' of result.json and result.csv)")
+    else:
+        bad = sum(1 for c in chunks for n in c["cut_off"] if n)
+        what = (f"{cut} of the {total * (spec.iterations + 2)} throws of this U_min sweep were stopped before their "
+                f"first bounce, so whether they bounce is unknown: {bad} tilt(s) have no U_min ('cut_off' counts them "
+                "per tilt)")
+    warnings.warn(f"{what}; the run stops a throw at duration={config.duration:g} s or max_steps={config.max_steps}: "
+                  "raise the duration (--duration in the CLI)", AccuracyWarning, stacklevel=3)
 
 
 def _out_folder(out_dir) -> Path:
@@ -541,9 +573,12 @@ def _chunk_problem(data, spec: SweepSpec, j: int, index: np.ndarray) -> str | No
     if not isinstance(data, dict):
         return "not a JSON object"
     lacks = [k for k in ("chunk", "items", *CHUNK_COUNTS[spec.kind], *CHUNK_VALUES[spec.kind]) if k not in data]
-    if lacks == ["diverged"]:
+    if "diverged" in lacks and set(lacks) <= {"diverged", "cut_off"}:
         return ("it was written by an earlier jaxskip, which did not record the throws that diverged (their counts "
                 "mean nothing), so it cannot be checked for them")
+    if lacks == ["cut_off"]:
+        return ("it was written by an earlier jaxskip, which did not record the throws the duration or step limit "
+                "cut off (their counts are lower bounds), so it cannot be checked for them")
     if lacks:
         return f"it lacks {', '.join(map(repr, lacks))}"
     if data["chunk"] != j or data["items"] != index.tolist():
@@ -737,6 +772,11 @@ def assemble(spec: SweepSpec, chunks: list[dict]) -> dict:
     the stone and throw): for a domain sweep 1 or 0 per grid point, (n_tilts, n_attacks), whose count then
     means nothing; for a U_min sweep the number of the tilt's bisection throws that diverged, and such a
     tilt's ``umin`` is None (a bisection step was taken on a count that means nothing).
+
+    ``cut_off``: throws still in play when the run stopped them at ``duration`` or ``max_steps``: for a
+    domain sweep 1 or 0 per grid point, whose count is then a lower bound; for a U_min sweep the number of
+    the tilt's bisection throws stopped before their first bounce, and such a tilt's ``umin`` is None
+    (whether that throw bounces is unknown).
     """
     def cat(key):
         return [v for c in chunks for v in c[key]]
@@ -746,7 +786,8 @@ def assemble(spec: SweepSpec, chunks: list[dict]) -> dict:
         b = np.asarray(cat("bounces")).reshape(len(spec.tilts), len(spec.attacks))
         result.update(bounces=b.tolist(), first_contact_time=np.asarray(
             cat("first_contact_time"), dtype=object).reshape(b.shape).tolist(),
-            diverged=np.asarray(cat("diverged")).reshape(b.shape).tolist())
+            diverged=np.asarray(cat("diverged")).reshape(b.shape).tolist(),
+            cut_off=np.asarray(cat("cut_off")).reshape(b.shape).tolist())
     else:
         umin = cat("umin")
         finite = [(u, t) for u, t in zip(umin, spec.tilts) if u is not None]
@@ -756,6 +797,7 @@ def assemble(spec: SweepSpec, chunks: list[dict]) -> dict:
         # the true minimum lies at such a tilt: no parabola through bounds.
         fit = (None, None) if any(n > 0 for n in at_low) else parabola_minimum(spec.tilts, umin)
         result.update(umin=umin, bounces_at_high=cat("bounces_at_high"), bounces_at_low=at_low, diverged=cat("diverged"),
+                      cut_off=cat("cut_off"),
                       best_tilt=best[1], best_umin=best[0], best_tilt_fit=fit[0], best_umin_fit=fit[1],
                       resolution=(spec.speed_range[1] - spec.speed_range[0]) / 2**spec.iterations)
     return result
@@ -767,20 +809,22 @@ def write_results(result: dict, out: Path) -> None:
     _write_atomic(out / "result.json", json.dumps(result, sort_keys=True, indent=1))
     rows = []
     if spec["kind"] == "domain":
-        rows.append(["tilt_deg", "attack_deg", "speed_m_s", "spin_rev_s", "bounces", "first_contact_time_s", "diverged"])
+        rows.append(["tilt_deg", "attack_deg", "speed_m_s", "spin_rev_s", "bounces", "first_contact_time_s", "diverged",
+                     "cut_off"])
         for i, t in enumerate(spec["tilts"]):
             for k, a in enumerate(spec["attacks"]):
                 tc = result["first_contact_time"][i][k]
                 rows.append([t, a, spec["speed"], spec["spin"], result["bounces"][i][k], "" if tc is None else tc,
-                             result["diverged"][i][k]])
+                             result["diverged"][i][k], result["cut_off"][i][k]])
     else:
         # bounces_at_low > 0: the bracket's low end bounces already, umin_m_s is only an upper bound
         rows.append(["tilt_deg", "attack_deg", "spin_rev_s", "umin_m_s", "bounces_at_high", "bounces_at_low",
-                     "diverged"])
+                     "diverged", "cut_off"])
         for i, t in enumerate(spec["tilts"]):
             u = result["umin"][i]
             rows.append([t, spec["attacks"][0], spec["spin"], "" if u is None else u, result["bounces_at_high"][i],
-                         result["bounces_at_low"][i], result["diverged"][i]])
+                         result["bounces_at_low"][i], result["diverged"][i],
+                         result["cut_off"][i]])
     from io import StringIO
 
     buf = StringIO()

@@ -504,4 +504,15 @@ def test_optimize_and_sweep_print_each_warning_once_and_mark_diverged_throws(tmp
     assert sum("U_min sweep diverged" in line for line in captured.err.splitlines()) == 1
     assert "tilt   20.0 deg: no U_min:" in captured.out and "of its bisection throws diverged" in captured.out
     rows = (tmp_path / "s" / "result.csv").read_text().splitlines()
-    assert rows[0].endswith(",diverged") and not rows[1].endswith(",0")
+    assert rows[0].endswith(",diverged,cut_off") and not rows[1].endswith(",0,0")
+
+
+def test_sweep_says_which_answers_the_duration_cut_off(tmp_path, capsys):
+    """A U_min tilt whose bisection met throws still in their first contact at --duration read 'no bounce up to
+    8 m/s' (or a U_min too high); a domain sweep's counts of throws still skipping read as final."""
+    assert main(["sweep", "umin", "--tilts", "20", "--iterations", "3", "--duration", "0.05"]) == 0
+    out = capsys.readouterr().out
+    assert "tilt   20.0 deg: no U_min:" in out and "at --duration 0.05 s (raise --duration)" in out, out
+    assert main(["sweep", "domain", "--tilts", "20", "--attacks", "20", "--duration", "0.05"]) == 0
+    out = capsys.readouterr().out
+    assert "1 still skipping at --duration 0.05 s (their counts are lower bounds" in out, out

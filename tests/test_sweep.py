@@ -212,12 +212,13 @@ def test_no_parabola_through_speeds_that_are_only_bounds(tmp_path):
 
     spec = make_spec("umin", tilts=[6.0, 12.0, 18.0, 24.0], speed_range=(1.85, 6.0), iterations=6)
     chunk = {"umin": [2.30, 1.85, 1.85, 2.04], "bounces_at_high": [1, 1, 1, 1], "bounces_at_low": [0, 1, 1, 0],
-             "diverged": [0, 0, 0, 0]}
+             "diverged": [0, 0, 0, 0], "cut_off": [0, 0, 0, 0]}
     r = assemble(spec, [chunk])
     assert r["best_tilt_fit"] is None and r["best_umin_fit"] is None and r["best_umin"] == 1.85
     write_results(r, tmp_path)
     rows = (tmp_path / "result.csv").read_text().splitlines()
-    assert rows[0].endswith(",umin_m_s,bounces_at_high,bounces_at_low,diverged") and rows[2].endswith(",1.85,1,1,0")
+    assert rows[0].endswith(",umin_m_s,bounces_at_high,bounces_at_low,diverged,cut_off")
+    assert rows[2].endswith(",1.85,1,1,0,0")
     r = assemble(spec, [dict(chunk, bounces_at_low=[0, 0, 0, 0], umin=[2.30, 1.90, 1.88, 2.04])])
     assert 12.0 < r["best_tilt_fit"] < 18.0  # measured speeds: the parabola stands
 
@@ -339,15 +340,15 @@ def _finished_umin(out):
 @pytest.mark.parametrize("text, problem", [
     ("{}", "it lacks 'chunk', 'items'"),
     ('{"bounces_at_high": [1], "bou', "not valid JSON"),                                  # truncated
-    ('{"chunk": 1, "items": [1], "umin": [1.0, 2.0], "bounces_at_high": [1], "bounces_at_low": [0], "diverged": [0]}',
+    ('{"chunk": 1, "items": [1], "umin": [1.0, 2.0], "bounces_at_high": [1], "bounces_at_low": [0], "diverged": [0], "cut_off": [0]}',
      "'umin' must be a list of 1 values"),
-    ('{"chunk": 0, "items": [0], "umin": [1.0], "bounces_at_high": [1], "bounces_at_low": [0], "diverged": [0]}',
+    ('{"chunk": 0, "items": [0], "umin": [1.0], "bounces_at_high": [1], "bounces_at_low": [0], "diverged": [0], "cut_off": [0]}',
      "not chunk 1 of this sweep"),
-    ('{"chunk": 1, "items": [1], "umin": ["x"], "bounces_at_high": [1], "bounces_at_low": [0], "diverged": [0]}',
+    ('{"chunk": 1, "items": [1], "umin": ["x"], "bounces_at_high": [1], "bounces_at_low": [0], "diverged": [0], "cut_off": [0]}',
      "'umin' holds a value that is not a number"),
     ("[]", "not a JSON object"),
     # (session 32) a U_min outside the bisection's bracket was taken as found
-    ('{"chunk": 1, "items": [1], "umin": [-5.0], "bounces_at_high": [1], "bounces_at_low": [0], "diverged": [0]}',
+    ('{"chunk": 1, "items": [1], "umin": [-5.0], "bounces_at_high": [1], "bounces_at_low": [0], "diverged": [0], "cut_off": [0]}',
      "'umin' holds -5.0, outside [0.5, 8] m/s, the bisection's bracket"),
 ], ids=["empty", "truncated", "too-long", "another-chunk", "not-a-number", "not-an-object", "outside-bracket"])
 def test_damaged_chunk_is_refused_naming_it_and_recomputed_once_deleted(tmp_path, text, problem):
@@ -596,7 +597,7 @@ def test_domain_sweep_marks_diverged_throws_and_warns_once(tmp_path):
     assert r["diverged"] == [[1]] and len(diverged) == 1
     assert "1 of the 1 throws of this domain sweep diverged" in str(diverged[0].message)
     rows = (tmp_path / "s" / "result.csv").read_text().splitlines()
-    assert rows[0].endswith(",diverged") and rows[1].endswith(",1")
+    assert rows[0].endswith(",diverged,cut_off") and rows[1].endswith(",1,0")
     calm = run_sweep(make_spec("domain", tilts=[20.0], attacks=[10.0], speed=10.0, chunk_size=1, **DIVERGING))
     assert calm["diverged"] == [[0]]
 
@@ -616,16 +617,65 @@ def test_umin_sweep_gives_no_umin_where_its_bisection_met_a_diverged_throw():
     assert sum(issubclass(w.category, DivergedWarning) for w in caught) == 1
 
 
-def test_chunk_of_an_earlier_version_without_diverged_is_refused_as_such(tmp_path):
-    """A chunk file written before sweeps recorded diverged throws cannot be checked for them: refused with
-    a message that says so (not as an unexplained 'damaged' file)."""
+@pytest.mark.parametrize("missing, said", [
+    (("diverged", "cut_off"), "earlier jaxskip, which did not record the throws that diverged"),
+    (("cut_off",), "earlier jaxskip, which did not record the throws the duration or step limit cut off"),
+], ids=["before-diverged", "before-cut-off"])
+def test_chunk_of_an_earlier_version_is_refused_as_such(tmp_path, missing, said):
+    """A chunk file written before sweeps recorded diverged throws (and, later, throws cut off by the duration)
+    cannot be checked for them: refused with a message that says so (not as an unexplained 'damaged' file)."""
     spec, _ = _finished_umin(tmp_path / "s")
     path = tmp_path / "s" / "chunk-00001.json"
     data = json.loads(path.read_text())
-    del data["diverged"]
+    for key in missing:
+        del data[key]
     path.write_text(json.dumps(data))
-    with pytest.raises(ParameterError, match="earlier jaxskip, which did not record the throws that diverged"):
+    with pytest.raises(ParameterError, match=said):
         run_sweep(spec, tmp_path / "s")
+
+
+def test_domain_sweep_marks_throws_the_duration_cut_off_and_warns_once(tmp_path):
+    """A throw still in the air or on the water when the run stopped it (outcome 'time_limit') went into the
+    result with its count so far and no sign that it is a lower bound. Now the grid point is marked 1 in
+    'cut_off' (JSON and CSV) and the sweep issues one AccuracyWarning naming the duration; with the default
+    duration the same throws end in play and nothing is marked."""
+    import warnings
+
+    from jaxskip import AccuracyWarning
+
+    spec = make_spec("domain", tilts=[20.0, 30.0], attacks=[20.0], duration=0.05, chunk_size=1)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        r = run_sweep(spec, tmp_path / "s")
+    cut = [w for w in caught if issubclass(w.category, AccuracyWarning) and "still skipping" in str(w.message)]
+    assert r["cut_off"] == [[1], [1]] and len(cut) == 1
+    assert "2 of the 2 throws" in str(cut[0].message) and "duration=0.05 s" in str(cut[0].message)
+    rows = (tmp_path / "s" / "result.csv").read_text().splitlines()
+    assert rows[0].endswith(",diverged,cut_off") and all(row.endswith(",0,1") for row in rows[1:])
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        whole = run_sweep(make_spec("domain", tilts=[20.0, 30.0], attacks=[20.0], chunk_size=1))
+    assert whole["cut_off"] == [[0], [0]] and not [w for w in caught if "still skipping" in str(w.message)]
+
+
+def test_umin_sweep_gives_no_umin_where_its_bisection_met_a_cut_off_throw():
+    """A throw stopped by the duration before its first bounce was taken for one that does not bounce, and
+    the bisection moved up past speeds that bounce. Now such a tilt gets no U_min and 'cut_off' counts those
+    throws; with the default duration the same sweep finds a U_min at every tilt."""
+    import warnings
+
+    from jaxskip import AccuracyWarning
+
+    spec = make_spec("umin", tilts=[20.0, 30.0], iterations=3, duration=0.05, chunk_size=1)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        r = run_sweep(spec)
+    # the bracket's top (8 m/s) bounces within 0.05 s; slower throws are still in their first contact
+    assert r["bounces_at_high"] == [1, 1] and r["umin"] == [None, None] and all(n >= 1 for n in r["cut_off"])
+    assert sum("whether they bounce is unknown" in str(w.message) for w in caught
+               if issubclass(w.category, AccuracyWarning)) == 1
+    whole = run_sweep(make_spec("umin", tilts=[20.0, 30.0], iterations=3, chunk_size=1))
+    assert None not in whole["umin"] and whole["cut_off"] == [0, 0]
 
 
 def test_stability_warning_is_issued_once_per_sweep_at_its_fastest_throw():
