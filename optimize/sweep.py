@@ -990,6 +990,12 @@ def _domain_panel(fig, ax, result: dict) -> None:
         ax.plot(np.asarray(spec["tilts"])[ti], np.asarray(spec["attacks"])[ai], "x", color="w", mec="k", ms=7)
         handles.append(Line2D([], [], ls="", marker="x", color="k", ms=7,
                               label="diverged (the contact step is too long): its count means nothing"))
+    cut = np.asarray(result.get("cut_off") or np.zeros(b.shape), dtype=bool)
+    if cut.any():
+        ti, ai = np.nonzero(cut)
+        ax.plot(np.asarray(spec["tilts"])[ti], np.asarray(spec["attacks"])[ai], "^", color="w", mec="k", ms=6)
+        handles.append(Line2D([], [], ls="", marker="^", color="w", mec="k", ms=6,
+                              label="still skipping at the duration: its count is a lower bound"))
     if handles:
         ax.legend(handles=handles, fontsize=8, loc="upper center", bbox_to_anchor=(0.5, -0.14), frameon=False)
     ax.set_xlabel("tilt α [deg]")

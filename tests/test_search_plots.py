@@ -285,6 +285,18 @@ def test_domain_colour_bar_counts_in_integers():
     assert "spin 65 rev/s" in ax.get_title() and "speed 3.5 m/s" in ax.get_title()
 
 
+def test_domain_marks_the_points_the_duration_cut_off():
+    """A grid point still skipping when the run stopped it (cut_off 1) has a count that is only a lower bound:
+    it is marked where it lies, and the legend says so; a result without such points has no such mark."""
+    result = dict(domain_result(), cut_off=[[0, 1, 0, 0], [0, 0, 0, 0], [0, 0, 0, 0]])
+    ax = _sweep_figure(result).axes[0]
+    marks = [line for line in ax.get_lines() if line.get_marker() == "^"]
+    assert len(marks) == 1 and list(marks[0].get_xdata()) == [10.0] and list(marks[0].get_ydata()) == [15.0]
+    assert any("count is a lower bound" in t for t in legend_texts(ax)), legend_texts(ax)
+    ax = _sweep_figure(domain_result()).axes[0]
+    assert not [line for line in ax.get_lines() if line.get_marker() == "^"]
+
+
 def test_domain_has_tilt_on_x_like_the_umin_panel_and_the_notebook():
     """`jaxskip sweep domain --plot` drew tilt on y while its U_min picture and the magic-angle notebook
     draw it on x; now each cell sits at (tilt, attack) with its own count."""
