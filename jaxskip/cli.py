@@ -117,8 +117,8 @@ def add_common(p, *, stone="paper", attitude="free", plot="write a picture (PNG/
                        help=f"{name} coefficient [-], in [0, {COEFFICIENT_MAX:g}] (default: the law's)")
     p.add_argument("--velocity", choices=VELOCITIES,
                    help="velocity the water sees: centre of mass (body, default), each triangle's v + w x r "
-                        "(local), or the centre of mass's for the pressure and each triangle's for the loading "
-                        "(passive: the water never adds energy; Bocquet's law only)")
+                        "(local), or the centre of mass's for the pressure and friction and each triangle's for the "
+                        "lift's loading (passive: the water never adds energy; Bocquet's law only)")
     p.add_argument("--attitude", choices=("free", "fixed"),
                    help=f"6-DoF (free) or tilt held (fixed) (default {attitude})")
     p.add_argument("--integrator", choices=("euler", "rk4"), help="time integrator (default euler)")

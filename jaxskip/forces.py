@@ -43,20 +43,28 @@ Either way the force jumps when a wet face turns through :math:`n_i\cdot V = 0`
 they make a free stone's trajectory piecewise smooth on a fine scale.
 
 ``velocity="passive"`` (Bocquet's law only) — the dynamic pressure from the centre of mass's
-velocity :math:`V = v`, the loading from each face's own :math:`w_i = v + \omega\times(G_i - x)`
+velocity :math:`V = v`, the lift's loading from each face's own :math:`w_i = v + \omega\times(G_i - x)`,
+the friction acting at the centre of mass
     .. math::
-        F_{L,i} = -\tfrac12 C_l\rho_w |V|^2 S_i\,\operatorname{sgn}(n_i\cdot w_i)\,n_i, \qquad
-        F_{f,i} = -\tfrac12 C_f\rho_w |V| S_i\,\hat t_i\,(\hat t_i\cdot w_i),
+        F_{L,i} = -\tfrac12 C_l\rho_w |V|^2 S_i\,\operatorname{sgn}(n_i\cdot w_i)\,n_i
+        \ \text{at}\ G_i, \qquad
+        F_{f,i} = -\tfrac12 C_f\rho_w |V|\,|V_t| S_i\,\hat t_i\ \text{at}\ x,
         \qquad \hat t_i = V_t/|V_t|,
 
     on faces with :math:`n_i\cdot w_i > 0` (``faces="leading"``). The water's power on the
-    stone, :math:`\sum_i F_i\cdot w_i = -\sum_i \tfrac12\rho_w S_i |V|\,[C_l |V|\,|n_i\cdot w_i|
-    + C_f (\hat t_i\cdot w_i)^2] \le 0`, is never positive, so the water cannot pump a wobble
+    stone, :math:`\sum_i F_{L,i}\cdot w_i + F_{f,i}\cdot v = -\sum_i \tfrac12\rho_w S_i |V|\,[C_l |V|\,
+    |n_i\cdot w_i| + C_f |V_t|^2] \le 0`, is never positive, so the water cannot pump a wobble
     (``"body"`` can: README, "The default free stone gains energy"). Without rotation
-    (:math:`w_i = V`, the tilt held included) it is ``"body"``'s law exactly. The spin's in-plane
-    speed does not enter the pressure (as with ``"body"``; ``"local"`` lifts a plate on it), and the
-    friction keeps the flow's direction :math:`\hat t_i`, so the spin's share of :math:`w_i`
-    cancels across a wetted patch in the force and only brakes the spin in the torque.
+    (:math:`w_i = V`, the tilt held included) it is ``"body"``'s law in force exactly (the torque
+    lacks the friction's moment, which a held tilt ignores). The spin's in-plane speed does not
+    enter the pressure (as with ``"body"``; ``"local"`` lifts a plate on it). The friction has no
+    moment about the centre of mass: loaded by each face's own velocity instead, the wetted rim of a
+    fast-spinning disk, moving at :math:`\Omega R` (10 m/s for Clanet's disk at 65 rev/s) against
+    a flow of 1-2 m/s, drove the stone like a wheel — spin turned into forward speed (the disk
+    tilted 45° at 0.6 m/s left the water at 2.1 m/s) — and with the centre of mass's velocity at
+    each face its moment pumped energy into the rotation (README, "Calibration"). For a thin stone
+    that moment is mostly about the face normal (a banked stone spun up or down); dropping it is
+    the approximation this law makes.
 """
 
 from __future__ import annotations
@@ -106,8 +114,9 @@ class ForceModel:
     so the free disk bounces from 0.5 m/s at every tilt and the magic angle disappears; with
     ``"body"`` the free disk at 65 rev/s reproduces the fixed-attitude (high-spin) curve.
     ``"passive"`` (Bocquet's law only): the pressure from the centre of mass's velocity, the
-    loading from each face's own, so the water never adds energy (module docstring); with
-    the tilt held it is ``"body"``."""
+    lift's loading from each face's own, the friction acting at the centre of mass, so the water
+    never adds energy and cannot turn spin into forward speed (module docstring); with the tilt
+    held it is ``"body"``."""
     normalize_lift: bool = True
     """Seed law only: lift magnitude ``∝ cos θ`` (True, as the paper states) or ``∝ cos² θ`` (eq. 2 as printed)."""
     sharpness: float | None = None
@@ -280,20 +289,24 @@ def triangle_force(model: ForceModel, params: WaterParams, normal, area, velocit
 
 
 def _passive_force(model: ForceModel, params: WaterParams, normal, area, V, w):
-    """Bocquet's law with ``velocity="passive"`` (module docstring): pressure from ``V``, loading from ``w``."""
+    """Bocquet's law with ``velocity="passive"`` (module docstring): the lift and the friction (3,) [N] on one
+    triangle, pressure from ``V``, loading from ``w``; the friction acts at the centre of mass."""
+    lift, friction = _passive_parts(model, params, normal, area, V, w)
+    return lift + friction
+
+
+def _passive_parts(model: ForceModel, params: WaterParams, normal, area, V, w):
+    """``velocity="passive"``: the lift (3,) [N], acting at the immersed centroid, and the friction (3,) [N],
+    acting at the centre of mass, on one triangle (arguments as :func:`triangle_force`)."""
     n_w = jnp.sum(normal * w)
     q = 0.5 * params.rho_water * area
     sign = jnp.where(n_w >= 0.0, 1.0, -1.0)
     lift = -params.c_lift * q * jnp.sum(V * V) * sign * normal
     v_t = V - jnp.sum(normal * V) * normal
-    tt = jnp.sum(v_t * v_t)
-    ok = tt > 0.0  # (double where: a head-on flow has no direction along the face, and no friction)
-    along = jnp.where(ok, jnp.sum(v_t * w) / jnp.where(ok, tt, 1.0), 0.0)
-    friction = -params.c_friction * q * _safe_norm(V) * along * v_t
-    force = lift + friction
+    friction = -params.c_friction * q * _safe_norm(V) * v_t
     if model.faces == "leading":
-        force = jnp.where(n_w > 0.0, force, 0.0)
-    return force
+        lift, friction = (jnp.where(n_w > 0.0, f, 0.0) for f in (lift, friction))
+    return lift, friction
 
 
 def flat_surface(x, y):
@@ -359,9 +372,11 @@ def body_water_load(model: ForceModel, params: WaterParams, stone, position, R, 
 
     since the centroid is :math:`m_i/\phi_i`. No centroid is divided out (no guard, a
     smoother reverse pass). ``velocity="local"`` and ``"passive"`` need the centroids: they go through
-    :func:`body_triangle_forces`. Returns force (3,) [N] and torque (3,) about the centre of
+    :func:`body_triangle_forces` (``"passive"``: its own sums, the friction acting at the centre of mass). Returns force (3,) [N] and torque (3,) about the centre of
     mass [N m] in the world frame, and the wetted area () [m^2].
     """
+    if model.velocity == "passive":
+        return _passive_load(model, params, stone, position, R, velocity, omega, surface)
     if model.velocity != "body":
         return body_total_force(*body_triangle_forces(model, params, stone, position, R, velocity, omega, surface), R)
     zeta = vertex_heights(stone, position, R, surface)
@@ -373,9 +388,24 @@ def body_water_load(model: ForceModel, params: WaterParams, stone, position, R, 
     return quaternion.rotate(R, force), quaternion.rotate(R, torque), face_sum(frac * stone.areas)
 
 
+def _passive_load(model: ForceModel, params: WaterParams, stone, position, R, velocity, omega, surface):
+    """:func:`body_water_load` for ``velocity="passive"``: the lift's moment about the centre of mass only
+    (the friction acts there). Returns force (3,) [N], torque (3,) [N m] (world frame), wetted area () [m^2]."""
+    zeta = vertex_heights(stone, position, R, surface)
+    frac, centroid = clipping.immersed_areas_from_heights(stone.triangles, zeta, model.sharpness)
+    area = frac * stone.areas
+    v_body = quaternion.rotate_inverse(R, velocity)
+    own = v_body[None, :] + jnp.cross(quaternion.rotate_inverse(R, omega)[None, :], centroid)
+    lift, friction = jax.vmap(lambda n, s, w: _passive_parts(model, params, n, s, v_body, w))(stone.normals, area, own)
+    torque = face_sum(jnp.cross(centroid, lift))
+    return quaternion.rotate(R, face_sum(lift + friction)), quaternion.rotate(R, torque), face_sum(area)
+
+
 def body_total_force(forces, centroid, area, R):
     """Sum :func:`body_triangle_forces`' output and turn it to the world frame: force (3,) [N],
-    torque (3,) about the centre of mass [N m], wetted area () [m^2]."""
+    torque (3,) about the centre of mass [N m], wetted area () [m^2]. Each force acts at its triangle's
+    immersed centroid; with ``velocity="passive"`` the friction acts at the centre of mass instead, so
+    take that law's torque from :func:`body_water_load`."""
     torque = face_sum(jnp.cross(centroid, forces))
     return quaternion.rotate(R, face_sum(forces)), quaternion.rotate(R, torque), face_sum(area)
 
@@ -413,7 +443,8 @@ def water_force(model: ForceModel, params: WaterParams, stone, position, R, velo
 
 def total_force(forces, centroid, area, position):
     """Sum :func:`triangle_forces`' (world-frame) output: force (3,) [N], torque (3,) about
-    ``position`` [N m], wetted area () [m^2]."""
+    ``position`` [N m], wetted area () [m^2]. Each force acts at its centroid (with ``velocity="passive"``
+    the friction acts at the centre of mass: :func:`water_force` gives that law's torque)."""
     r = centroid - position[None, :]
     torque = jnp.sum(jnp.cross(r, forces), axis=0)
     return jnp.sum(forces, axis=0), torque, jnp.sum(area)

@@ -540,7 +540,10 @@ def _dynamics(config: SimConfig, stone: RigidStone, water: WaterParams, surface,
         omega = _spin_from_momentum(stone, R, L) if need_omega else jnp.zeros(3) * L
         if per_face:
             parts = body_triangle_forces(config.force, water, stone, x, R, v, omega, surface)
-            F, tau, wet = body_total_force(*parts, R)
+            if config.force.velocity == "passive":  # (its friction acts at the centre of mass)
+                F, tau, wet = body_water_load(config.force, water, stone, x, R, v, omega, surface)
+            else:
+                F, tau, wet = body_total_force(*parts, R)
             # + per-triangle forces and centroids in the world frame (the coupled water's push)
             aux = (F, wet, quat.rotate(R, parts[0]), quat.rotate(R, parts[1]) + x[None, :])
         else:

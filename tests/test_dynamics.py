@@ -399,6 +399,27 @@ def test_water_with_face_velocities_only_takes_energy_from_a_free_stone(paper, w
     assert np.max(np.diff(energy)) <= 1e-6 * energy[0], np.max(np.diff(energy))
 
 
+def test_passive_water_does_not_drive_a_spinning_disk_like_a_wheel(water):
+    """With the friction loaded by each face's own velocity (the passive law until session 37), the wetted
+    rim of Clanet's disk spun at 65 rev/s, moving at 10 m/s against a flow of 0.6 m/s, drove the disk like a
+    wheel: tilted 45 deg and thrown at 0.6 m/s it left the water at 2.06 m/s with its spin down to 38 rev/s
+    and skipped over 1.3 m (its U_min then fell to a minimum at 45 deg). Friction acting at the centre of mass
+    only brakes: the disk never moves faster along the water than it was thrown, keeps its spin to 1 %, and
+    sinks, as with the body law."""
+    from jaxskip import simulate
+
+    throw = Throw.from_degrees(speed=0.6, tilt=45.0, attack=20.0, spin=65.0)
+    runs = {v: simulate(throw, stone="clanet", water=water, config=SimConfig(force=ForceModel(velocity=v)))
+            for v in ("passive", "body")}
+    tr = runs["passive"].trajectory
+    along = np.linalg.norm(tr["velocity"][:, :2], axis=1)
+    assert along.max() <= along[0] * (1 + 1e-9), (along[0], along.max())
+    spin = np.linalg.norm(tr["angular_velocity"], axis=1) / (2 * np.pi)
+    assert np.all(np.abs(spin - 65.0) < 0.65), (spin.min(), spin.max())
+    assert runs["passive"].bounces == runs["body"].bounces == 0 and runs["passive"].outcome == "sank"
+    assert runs["passive"].distance < 0.1
+
+
 def test_passive_water_is_the_body_law_when_the_tilt_is_held(paper, water):
     """With ``attitude="fixed"`` no face turns, w_i = v, and ``velocity="passive"`` is the body law: the
     same bounces and trajectory to rounding (the body law sums moments, the passive one triangle forces);
