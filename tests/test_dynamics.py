@@ -400,7 +400,7 @@ def test_water_with_face_velocities_only_takes_energy_from_a_free_stone(paper, w
 
 
 def test_passive_water_does_not_drive_a_spinning_disk_like_a_wheel(water):
-    """With the friction loaded by each face's own velocity (the passive law until session 37), the wetted
+    """With the friction loaded by each face's own velocity (the passive law until 2026-12-05), the wetted
     rim of Clanet's disk spun at 65 rev/s, moving at 10 m/s against a flow of 0.6 m/s, drove the disk like a
     wheel: tilted 45 deg and thrown at 0.6 m/s it left the water at 2.06 m/s with its spin down to 38 rev/s
     and skipped over 1.3 m (its U_min then fell to a minimum at 45 deg). Friction acting at the centre of mass
