@@ -295,9 +295,34 @@ def _summary(result) -> str:
         lines.append("  (downrange: the centre of mass's distance from the release point along the heading, at "
                      "the contact's start; tilt direction: 0 leading edge up, +90 banked to the left, 180 leading "
                      "edge down)")
+    lines.extend(_energy_lines(result))
     if result.outcome == "step_limit":
         lines.append("note: the step budget ran out while the stone was still in play; raise --max-steps")
     return "\n".join(lines)
+
+
+#: A rise of the stone's mechanical energy beyond this fraction of its release value is reported as energy
+#: the water added (the passive laws rise by rounding only: ~1e-9 J on the default throw's 4.63 J).
+ENERGY_RISE = 1e-6
+
+
+def _energy_lines(result) -> list:
+    """The stone's mechanical energy in the summary: at release, at its peak and at the end [J], and a note
+    when the water added energy (possible with --velocity body, the default)."""
+    if result.rigid is None:
+        return []
+    e = result.to_dict()["energy"]
+    if None in e.values():  # (a diverged run: its error says so)
+        return []
+    lines = [f"mechanical energy of the stone: {e['release']:.3g} J at release, {e['end']:.3g} J at the end"]
+    if e["peak"] > e["release"] * (1 + ENERGY_RISE) + ENERGY_RISE:
+        lines[0] += (f"; peak {e['peak']:.3g} J at {e['peak_time']:.2f} s "
+                     f"(+{100 * (e['peak'] / e['release'] - 1):.0f} %)")
+        if not result.field:
+            lines.append("  (the water added energy: with --velocity body each face's force comes from the centre of "
+                         "mass's velocity and can pump a wobble; --velocity passive never adds any; README, "
+                         "'The default free stone gains energy')")
+    return lines
 
 
 def _distinct_outputs(args, flags) -> None:

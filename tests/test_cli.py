@@ -1,6 +1,7 @@
 """The command line as a user meets it: output, JSON, pictures, and clear errors (exit 2)."""
 
 import json
+import re
 import math
 import os
 import subprocess
@@ -296,6 +297,24 @@ def test_passive_water_from_the_command_line(capsys):
         assert runs[velocity]["parameters"]["velocity"] == velocity
     assert runs["passive"]["bounces"] < runs["body"]["bounces"], (runs["passive"]["bounces"], runs["body"]["bounces"])
     assert runs["passive"]["distance"] > 2 * runs["body"]["distance"]
+    # the JSON's energy summary [J]: the body law's peak far above its release value, the passive law's never
+    body, passive = runs["body"]["energy"], runs["passive"]["energy"]
+    assert body["release"] == pytest.approx(passive["release"], rel=1e-12) and body["peak"] > 1.5 * body["release"]
+    assert passive["peak"] <= passive["release"] * (1 + 1e-9) and passive["end"] < 0.5 * passive["release"]
+
+
+def test_throw_text_reports_the_stone_energy_and_says_when_the_water_added_some(capsys):
+    """The summary gives the stone's mechanical energy at release and at the end, and for the default
+    (body-velocity) throw its peak and a note that the water added energy; a passive run has no such note."""
+    assert main(["throw"]) == 0
+    out = capsys.readouterr().out
+    assert "mechanical energy of the stone: 4.63 J at release, 7.98 J at the end; peak 7.98 J at 0.37 s (+72 %)" in out
+    assert "the water added energy: with --velocity body" in out
+    assert main(["throw", "--velocity", "passive"]) == 0
+    out = capsys.readouterr().out
+    # (its end value, ~0.6 J, moves with rounding: the free stone's last contacts are chaotic)
+    assert re.search(r"^mechanical energy of the stone: 4\.63 J at release, 0\.[56]\d* J at the end$", out, re.M), out
+    assert "peak" not in out and "added energy" not in out
 
 
 def test_coarse_dt_is_warned_about_on_stderr(capsys):

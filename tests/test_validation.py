@@ -1,5 +1,6 @@
 """Bad input raises a clear ParameterError naming the parameter, before any tracing."""
 
+import json
 import math
 
 import pytest
@@ -668,6 +669,8 @@ def test_a_failed_integration_ends_as_diverged_with_a_warning():
     with pytest.warns(RuntimeWarning, match="diverged"):
         r = simulate(throw, density=100.0, config=SimConfig(record=False))
     assert r.outcome == "diverged" == OUTCOMES[DIVERGED] and r.final_time < 1.0, (r.outcome, r.final_time)
+    energy = json.loads(json.dumps(r.to_dict(), allow_nan=False))["energy"]   # strict JSON, whatever diverged
+    assert energy["release"] > 0 and all(v is None or math.isfinite(v) for v in energy.values()), energy
     with pytest.warns(RuntimeWarning, match="1 of 2 throws diverged"):
         b = simulate_batch(Throw.from_degrees(speed=[100.0, 8.0], attack=0.0), density=100.0)
     assert b.outcome_names.tolist()[0] == "diverged" != b.outcome_names.tolist()[1]
