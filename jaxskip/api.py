@@ -168,7 +168,9 @@ class ThrowResult:
         ``velocity="body"`` it can: each face's force is computed from the centre of mass's velocity, and the
         lift's torque can pump a wobble (the default throw: 4.63 J at release, 7.98 J at the end; README,
         "The default free stone gains energy"); with the tilt held or ``velocity="local"`` or ``"passive"`` it
-        only falls, to rounding. With a height field (``field``) the water's own energy is not included.
+        only falls, to rounding. With a height field (``field``) the water's own energy is not included. With
+        the tilt held (``attitude="fixed"``) the stone does not turn, and ``"rotation"`` is the throw's spin
+        energy, carried along unchanged.
 
         >>> from jaxskip import SimConfig, Throw, simulate
         >>> r = simulate(Throw.from_degrees(), config=SimConfig(attitude="fixed"))
@@ -196,14 +198,17 @@ class ThrowResult:
         return parts
 
     def _energy_summary(self) -> dict:
-        """``to_dict()["energy"]``: the total at release, its peak and when, and at the end [J, s]; None for a
-        value that is not finite (a diverged run), so that the dict stays strict JSON."""
+        """``to_dict()["energy"]``: the total at release, its peak and when, at the end, and its largest rise
+        above an earlier value [J, s]; None for a value that is not finite (a diverged run), so that the dict
+        stays strict JSON."""
         total = self.energy()["total"]
         finite = np.isfinite(total)
         k = int(np.argmax(np.where(finite, total, -np.inf))) if finite.any() else 0
         num = lambda x: float(x) if np.isfinite(x) else None
+        # the most the total ever rose above an earlier value: energy the water added, even below the release's
+        gain = np.max(total - np.minimum.accumulate(total)) if finite.all() else np.nan
         return {"release": num(total[0]), "peak": num(total[k]),
-                "peak_time": num(np.asarray(self.trajectory["time"])[k]), "end": num(total[-1])}
+                "peak_time": num(np.asarray(self.trajectory["time"])[k]), "end": num(total[-1]), "gain": num(gain)}
 
     def to_dict(self) -> dict:
         """JSON-ready summary with the resolved parameters, in SI (m, m/s, s, kg, kg/m^3, m/s^2) except the
@@ -213,8 +218,9 @@ class ThrowResult:
         setting that can change the answer: the throw, the stone and its mass, the water's coefficients and
         every :class:`SimConfig` and :class:`ForceModel` field but ``record``, ``segment`` and ``checkpoint``
         (how the run is stored and differentiated, not what it computes). ``energy``: the stone's mechanical
-        energy (:meth:`energy`'s ``"total"``) at ``release``, its ``peak`` and ``peak_time`` [s], and at the
-        ``end`` [J]. ``water`` (only with a height field): :attr:`field` without its ``frames``."""
+        energy (:meth:`energy`'s ``"total"``) at ``release``, its ``peak`` and ``peak_time`` [s], at the ``end``,
+        and its ``gain``, the most it ever rose above an earlier value [J] (energy the water added; rounding
+        only, ~1e-9 J, where the law is passive). ``water`` (only with a height field): :attr:`field` without its ``frames``."""
         t = self.throw
         f = self.config.force
         return {

@@ -301,14 +301,15 @@ def _summary(result) -> str:
     return "\n".join(lines)
 
 
-#: A rise of the stone's mechanical energy beyond this fraction of its release value is reported as energy
-#: the water added (the passive laws rise by rounding only: ~1e-9 J on the default throw's 4.63 J).
+#: A rise of the stone's mechanical energy (above its release value, or above any earlier value) beyond this
+#: fraction of its release value is reported as energy the water added (the passive laws rise by rounding
+#: only: ~1e-9 J on the default throw's 4.63 J).
 ENERGY_RISE = 1e-6
 
 
 def _energy_lines(result) -> list:
     """The stone's mechanical energy in the summary: at release, at its peak and at the end [J], and a note
-    when the water added energy (possible with --velocity body, the default)."""
+    when the water added energy (rose above an earlier value; possible with --velocity body, the default)."""
     if result.rigid is None:
         return []
     e = result.to_dict()["energy"]
@@ -318,10 +319,11 @@ def _energy_lines(result) -> list:
     if e["peak"] > e["release"] * (1 + ENERGY_RISE) + ENERGY_RISE:
         lines[0] += (f"; peak {e['peak']:.3g} J at {e['peak_time']:.2f} s "
                      f"(+{100 * (e['peak'] / e['release'] - 1):.0f} %)")
-        if not result.field:
-            lines.append("  (the water added energy: with --velocity body each face's force comes from the centre of "
-                         "mass's velocity and can pump a wobble; --velocity passive never adds any; README, "
-                         "'The default free stone gains energy')")
+    if e["gain"] > e["release"] * ENERGY_RISE + ENERGY_RISE and not result.field:
+        why = ("with --velocity body each face's force comes from the centre of mass's velocity and can pump a "
+               "wobble; --velocity passive never adds any; README, 'The default free stone gains energy'"
+               if result.config.force.velocity == "body" else "a smaller --dt resolves the contacts better")
+        lines.append(f"  (the water added energy: {e['gain']:.3g} J above an earlier low; {why})")
     return lines
 
 

@@ -380,8 +380,8 @@ def run_sweep_command(args) -> int:
             if n_failed:
                 shown = f"no U_min: {n_failed} of its bisection throws diverged (take a smaller --dt)"
             elif n_cut:
-                shown = (f"no U_min: {n_cut} of its bisection throws were still in their first contact or flight at "
-                         f"--duration {spec['config']['duration']:g} s (raise --duration)")
+                shown = (f"no U_min: {n_cut} of its bisection throws were still in their first contact or flight "
+                         f"when {_limits(spec)} stopped them (raise them)")
             elif u is None:
                 shown = f"no bounce up to {high:g} m/s"
             elif n_low > 0:
@@ -412,6 +412,12 @@ def run_sweep_command(args) -> int:
             if result["best_tilt_fit"] is not None and not tie:
                 _say(f"  between grid points (parabola through its neighbours): {result['best_tilt_fit']:.1f} deg, "
                      f"U_min {result['best_umin_fit']:.2f} m/s")
+            unknown = [f"{t:g}" for t, v, n_failed, n_cut in zip(spec["tilts"], result["umin"], failed, cut)
+                       if v is None and (n_failed or n_cut)]
+            if unknown:
+                many = len(unknown) > 1
+                _say(f"  (tilt{'s' if many else ''} {', '.join(unknown)} deg {'have' if many else 'has'} no U_min, "
+                     "above: the minimum may lie there)")
     else:
         import numpy as np
 
@@ -421,13 +427,18 @@ def run_sweep_command(args) -> int:
         _say(f"bounce domain at {spec['speed']:g} m/s: {int((b > 0).sum())} of {b.size} (tilt, attack) pairs bounce;"
              f" most bounces {int(b.max())}" + (f"; {int(failed.sum())} diverged (their counts mean nothing: take a "
                                                  f"smaller --dt)" if failed.any() else "")
-             + (f"; {int(cut.sum())} still skipping at --duration {spec['config']['duration']:g} s (their counts are "
-                "lower bounds: raise --duration)" if cut.any() else ""))
+             + (f"; {int(cut.sum())} still skipping when {_limits(spec)} stopped them (their counts are lower "
+                "bounds: raise them)" if cut.any() else ""))
     if args.out:
         _say(f"results: {args.out}/result.json, {args.out}/result.csv")
     if args.plot:
         _say(f"picture: {args.plot}")
     return 0
+
+
+def _limits(spec: dict) -> str:
+    """The run's limits on a throw, as flags: ``--duration 5 s or --max-steps 20250``."""
+    return f"--duration {spec['config']['duration']:g} s or --max-steps {spec['config']['max_steps']}"
 
 
 __all__ = ["add_parsers", "flag_names", "run_optimize", "run_sweep_command"]

@@ -115,8 +115,8 @@ class ForceModel:
     ``"body"`` the free disk at 65 rev/s reproduces the fixed-attitude (high-spin) curve.
     ``"passive"`` (Bocquet's law only): the pressure from the centre of mass's velocity, the
     lift's loading from each face's own, the friction acting at the centre of mass, so the water
-    never adds energy and cannot turn spin into forward speed (module docstring); with the tilt
-    held it is ``"body"``."""
+    never adds energy and its friction cannot drive the stone like a wheel (module docstring); with
+    the tilt held it is ``"body"``."""
     normalize_lift: bool = True
     """Seed law only: lift magnitude ``∝ cos θ`` (True, as the paper states) or ``∝ cos² θ`` (eq. 2 as printed)."""
     sharpness: float | None = None
@@ -361,7 +361,8 @@ def body_triangle_forces(model: ForceModel, params: WaterParams, stone, position
 def body_water_load(model: ForceModel, params: WaterParams, stone, position, R, velocity, omega, surface):
     r"""Total water force, torque and wetted area: the simulator's kernel (arguments as :func:`water_force`).
 
-    The same sums as :func:`body_total_force` of :func:`body_triangle_forces`, without forming
+    The same sums as :func:`body_total_force` of :func:`body_triangle_forces` (but for ``velocity="passive"``,
+    whose friction acts at the centre of mass and has no moment), without forming
     each triangle's force and centroid. With ``velocity="body"`` every triangle sees the one
     velocity :math:`R^\top v`, and both laws are linear in the immersed area, so triangle
     :math:`i` with immersed fraction :math:`\phi_i` carries :math:`\phi_i g_i`, where

@@ -60,7 +60,7 @@ from jaxskip._files import check_picture_path, writing
 from jaxskip._progress import ProgressLine
 from jaxskip.forces import DEFAULT_COEFFICIENTS
 from jaxskip.settings import SIM_DEFAULTS, describe, simulation
-from jaxskip.simulate import AccuracyWarning
+from jaxskip.simulate import AccuracyWarning, SimConfig
 from jaxskip.stones import BUILTIN_STONES
 from jaxskip.throw import MAX_SPEED, MAX_SPIN_REVS
 
@@ -536,7 +536,7 @@ def _warn_cut_off(spec: SweepSpec, chunks: list[dict], config) -> None:
                 f"first bounce, so whether they bounce is unknown: {bad} tilt(s) have no U_min ('cut_off' counts them "
                 "per tilt)")
     warnings.warn(f"{what}; the run stops a throw at duration={config.duration:g} s or max_steps={config.max_steps}: "
-                  "raise the duration (--duration in the CLI)", AccuracyWarning, stacklevel=3)
+                  "raise them (--duration, --max-steps in the CLI)", AccuracyWarning, stacklevel=3)
 
 
 def _out_folder(out_dir) -> Path:
@@ -905,7 +905,12 @@ def merge(folders, out_dir) -> dict:
             found[j] = _load_chunk(p, spec, j, chunks[j], "delete it and merge again")
         else:
             _write_atomic(p, json.dumps(data, sort_keys=True))
-    result = assemble(spec, [found[j] for j in range(len(chunks))])
+    merged = [found[j] for j in range(len(chunks))]
+    # the shards warned of their own throws; the merge warns once of all of them (its limits are the spec's)
+    limits = SimConfig(dt=spec.config["dt"], duration=spec.config["duration"], max_steps=spec.config["max_steps"])
+    _warn_diverged(spec, merged, limits)
+    _warn_cut_off(spec, merged, limits)
+    result = assemble(spec, merged)
     write_results(result, out)
     return result
 
@@ -938,10 +943,17 @@ def _umin_panel(ax, result: dict) -> None:
     if at_low.any():
         ax.plot(tilts[at_low], u[at_low], "v", color="C0", ms=7, mfc="none",
                 label=f"bounces at the bracket's low end: U_min ≤ {low:g} m/s")
-    none = np.isnan(u)
-    if none.any():
-        ax.plot(tilts[none], np.full(int(none.sum()), high), "x", color="gray",
-                label=f"no bounce up to {high:g} m/s (the bracket's top)")
+    # a tilt without U_min: no bounce up to the bracket's top, or unknown (its bisection met a throw that
+    # diverged, or one the duration or step limit stopped before its first bounce)
+    failed = np.asarray(result.get("diverged") or [0] * len(u)) > 0
+    cut = (np.asarray(result.get("cut_off") or [0] * len(u)) > 0) & ~failed
+    none = np.isnan(u) & ~failed & ~cut
+    for where, marker, label in ((none, "x", f"no bounce up to {high:g} m/s (the bracket's top)"),
+                                 (failed & np.isnan(u), "X", "no U_min: a bisection throw diverged (take a smaller dt)"),
+                                 (cut & np.isnan(u), "^", "no U_min: a bisection throw was still in play at the "
+                                                         "duration or step limit (raise it)")):
+        if where.any():
+            ax.plot(tilts[where], np.full(int(where.sum()), high), marker, color="gray", mfc="none", label=label)
     if result.get("best_tilt") is not None:
         u0 = result["best_umin"]
         d = bracket_digits(res)

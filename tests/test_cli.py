@@ -301,6 +301,7 @@ def test_passive_water_from_the_command_line(capsys):
     body, passive = runs["body"]["energy"], runs["passive"]["energy"]
     assert body["release"] == pytest.approx(passive["release"], rel=1e-12) and body["peak"] > 1.5 * body["release"]
     assert passive["peak"] <= passive["release"] * (1 + 1e-9) and passive["end"] < 0.5 * passive["release"]
+    assert passive["gain"] < 1e-6 and body["gain"] > 3.0, (passive["gain"], body["gain"])
 
 
 def test_throw_text_reports_the_stone_energy_and_says_when_the_water_added_some(capsys):
@@ -309,7 +310,11 @@ def test_throw_text_reports_the_stone_energy_and_says_when_the_water_added_some(
     assert main(["throw"]) == 0
     out = capsys.readouterr().out
     assert "mechanical energy of the stone: 4.63 J at release, 7.98 J at the end; peak 7.98 J at 0.37 s (+72 %)" in out
-    assert "the water added energy: with --velocity body" in out
+    assert re.search(r"\(the water added energy: [\d.]+ J above an earlier low; with --velocity body", out), out
+    # energy added below the release's value is reported too: at 10 rev/s the body law's stone regains 0.5 J
+    assert main(["throw", "--spin", "10"]) == 0
+    out = capsys.readouterr().out
+    assert "peak" not in out and re.search(r"\(the water added energy: 0\.[45]\d* J above an earlier low", out), out
     assert main(["throw", "--velocity", "passive"]) == 0
     out = capsys.readouterr().out
     # (its end value, ~0.6 J, moves with rounding: the free stone's last contacts are chaotic)

@@ -512,7 +512,11 @@ def test_sweep_says_which_answers_the_duration_cut_off(tmp_path, capsys):
     8 m/s' (or a U_min too high); a domain sweep's counts of throws still skipping read as final."""
     assert main(["sweep", "umin", "--tilts", "20", "--iterations", "3", "--duration", "0.05"]) == 0
     out = capsys.readouterr().out
-    assert "tilt   20.0 deg: no U_min:" in out and "at --duration 0.05 s (raise --duration)" in out, out
+    assert "tilt   20.0 deg: no U_min:" in out and "when --duration 0.05 s or --max-steps 250 stopped them (raise" in out, out
+    # a magic angle found among tilts some of which have no U_min says the minimum may lie at those
+    assert main(["sweep", "umin", "--tilts", "5,20,30", "--iterations", "3", "--duration", "0.3"]) == 0
+    out = capsys.readouterr().out
+    assert "magic angle: 20 deg" in out and "(tilt 5 deg has no U_min, above: the minimum may lie there)" in out, out
     assert main(["sweep", "domain", "--tilts", "20", "--attacks", "20", "--duration", "0.05"]) == 0
     out = capsys.readouterr().out
-    assert "1 still skipping at --duration 0.05 s (their counts are lower bounds" in out, out
+    assert "1 still skipping when --duration 0.05 s or --max-steps 250 stopped them (their counts are lower" in out, out

@@ -285,6 +285,19 @@ def test_domain_colour_bar_counts_in_integers():
     assert "spin 65 rev/s" in ax.get_title() and "speed 3.5 m/s" in ax.get_title()
 
 
+def test_umin_tilts_without_an_answer_say_why():
+    """A tilt whose bisection met a throw cut off by the duration (or one that diverged) has no U_min: it was
+    drawn as 'no bounce up to 8 m/s', the misreading its 'cut_off' count exists to prevent. Each reason now
+    has its own mark and label; a tilt that never bounced keeps the old one."""
+    result = dict(umin_result([None, 2.0, None, None], [0, 0, 0, 0]), cut_off=[0, 0, 2, 0], diverged=[0, 0, 0, 1])
+    ax = _sweep_figure(result).axes[0]
+    marks = {line.get_marker(): list(line.get_xdata()) for line in ax.get_lines() if line.get_marker() in "xX^"}
+    assert marks == {"x": [10.0], "^": [30.0], "X": [40.0]}, marks
+    texts = legend_texts(ax)
+    assert any("still in play at the duration" in t for t in texts) and any("diverged" in t for t in texts), texts
+    assert sum("no bounce up to 8 m/s" in t for t in texts) == 1, texts
+
+
 def test_domain_marks_the_points_the_duration_cut_off():
     """A grid point still skipping when the run stopped it (cut_off 1) has a count that is only a lower bound:
     it is marked where it lies, and the legend says so; a result without such points has no such mark."""

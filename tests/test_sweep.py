@@ -652,6 +652,10 @@ def test_domain_sweep_marks_throws_the_duration_cut_off_and_warns_once(tmp_path)
     assert "2 of the 2 throws" in str(cut[0].message) and "duration=0.05 s" in str(cut[0].message)
     rows = (tmp_path / "s" / "result.csv").read_text().splitlines()
     assert rows[0].endswith(",diverged,cut_off") and all(row.endswith(",0,1") for row in rows[1:])
+    with warnings.catch_warnings(record=True) as caught:   # a merge of the folder warns as the run did
+        warnings.simplefilter("always")
+        assert merge([tmp_path / "s"], tmp_path / "m")["cut_off"] == [[1], [1]]
+    assert sum("2 of the 2 throws" in str(w.message) for w in caught if issubclass(w.category, AccuracyWarning)) == 1
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         whole = run_sweep(make_spec("domain", tilts=[20.0, 30.0], attacks=[20.0], chunk_size=1))
