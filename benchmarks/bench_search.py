@@ -31,6 +31,7 @@ jax.config.update("jax_enable_x64", True)
 import numpy as np  # noqa: E402
 
 from jaxskip import SimConfig, water_params  # noqa: E402
+from jaxskip.forces import ForceModel  # noqa: E402
 from jaxskip.api import resolve_stone  # noqa: E402
 from jaxskip.batch import default_lanes  # noqa: E402
 from optimize import (gradient_search, grid_search, local_search, make_box, make_objective,  # noqa: E402
@@ -174,14 +175,21 @@ def main(argv=None):
     ap.add_argument("--chaos-horizons", default="400,1200,3000,20250",
                     help="horizons [steps] of the chaos section (default 400,1200,3000,20250: the whole rollout)")
     ap.add_argument("--chaos-only", action="store_true", help="run the chaos section alone")
+    ap.add_argument("--attitude", choices=("free", "fixed"), default="free",
+                    help="the stone's attitude in every search (default free, the library's; fixed: the tilt held, "
+                         "where the count grows smoothly with speed)")
+    ap.add_argument("--velocity", choices=("body", "local", "passive"), default="body",
+                    help="the velocity the force law sees (default body, the library's)")
     ap.add_argument("--json", metavar="PATH")
     args = ap.parse_args(argv)
     per_axis = args.per_axis or (6 if args.quick else 10)
     starts = 2 if args.quick else 8
     n_finite = args.finite_throws or (500 if args.quick else 10_000)
     box = make_box()
-    config = SimConfig()
-    out = {"per_axis": per_axis, "starts": starts, "iterations": args.iterations, "screen": args.screen}
+    config = SimConfig(attitude=args.attitude, force=ForceModel(velocity=args.velocity))
+    out = {"per_axis": per_axis, "starts": starts, "iterations": args.iterations, "screen": args.screen,
+           "attitude": args.attitude, "velocity": args.velocity}
+    print(f"human box, default stone, attitude {args.attitude}, velocity {args.velocity}", flush=True)
     n_chaos = args.chaos_throws if args.chaos_throws is not None else (64 if args.quick else 256)
     horizons = [int(h) for h in args.chaos_horizons.split(",")]
     if args.finite_only:
