@@ -26,6 +26,7 @@ from ._arrays import float_array, float_leaves
 from ._checks import ParameterError, check_bool, check_int, check_positive, check_range
 from .body import DENSITY_RANGE, RigidStone, rigid_stone
 from .forces import DEFAULT_COEFFICIENTS, WaterParams, water_params
+from . import quaternion
 from .mesh import TriMesh
 from .coupled import check_shared_constants, coupled_substeps, default_water_dt, initial_field, make_coupled_step
 from .simulate import (_ALIVE, DIVERGED, OUTCOMES, DivergedWarning, STEP_LIMIT, SimConfig, StoneState, Tracker, _new_tracker, _scan,
@@ -184,12 +185,9 @@ class ThrowResult:
         tr = self.trajectory
         v = np.asarray(tr["velocity"], dtype=float)
         omega = np.asarray(tr["angular_velocity"], dtype=float)
-        w, x, y, z = np.moveaxis(np.asarray(tr["orientation"], dtype=float), -1, 0)
-        # R^T omega: the angular velocity in body axes (R of the unit quaternion (w, x, y, z), body to world)
-        R = np.stack([np.stack([1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)], -1),
-                      np.stack([2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)], -1),
-                      np.stack([2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)], -1)], -2)
-        body = np.einsum("nji,nj->ni", R, omega)
+        # R^T omega: the angular velocity in body axes; to_matrix of the (4, N) quaternions is R as (3, 3, N)
+        R = np.asarray(quaternion.to_matrix(np.asarray(tr["orientation"], dtype=float).T), dtype=float)
+        body = np.einsum("jin,nj->ni", R, omega)
         inertia = np.asarray(self.rigid.inertia, dtype=float)
         parts = {"translation": 0.5 * self.mass * np.sum(v * v, axis=1),
                  "rotation": 0.5 * np.einsum("ni,ij,nj->n", body, inertia, body),

@@ -345,17 +345,24 @@ def body_triangle_forces(model: ForceModel, params: WaterParams, stone, position
     Returns ``forces`` (F, 3) [N] and immersed ``centroids`` (F, 3) [m] relative to the
     centre of mass, both in body axes, and immersed ``areas`` (F,) [m^2].
     """
+    centroid, area, v_body, own = _wetted(model, stone, position, R, velocity, omega, surface)
+    vel = own if model.velocity == "local" else jnp.broadcast_to(v_body[None, :], centroid.shape)
+    forces = jax.vmap(lambda n, s, v, w: triangle_force(model, params, n, s, v, w))(stone.normals, area, vel, own)
+    return forces, centroid, area
+
+
+def _wetted(model: ForceModel, stone, position, R, velocity, omega, surface):
+    """Each triangle's immersed centroid (F, 3) [m] (body axes, from the centre of mass) and area (F,) [m^2],
+    the centre of mass's velocity in body axes (3,) [m/s], and each immersed part's own velocity (F, 3) [m/s]
+    (the centre of mass's with ``velocity="body"``)."""
     zeta = vertex_heights(stone, position, R, surface)
     frac, centroid = clipping.immersed_areas_from_heights(stone.triangles, zeta, model.sharpness)
-    area = frac * stone.areas
     v_body = quaternion.rotate_inverse(R, velocity)
     if model.velocity == "body":
         own = jnp.broadcast_to(v_body[None, :], centroid.shape)
     else:
         own = v_body[None, :] + jnp.cross(quaternion.rotate_inverse(R, omega)[None, :], centroid)
-    vel = own if model.velocity == "local" else jnp.broadcast_to(v_body[None, :], centroid.shape)
-    forces = jax.vmap(lambda n, s, v, w: triangle_force(model, params, n, s, v, w))(stone.normals, area, vel, own)
-    return forces, centroid, area
+    return centroid, frac * stone.areas, v_body, own
 
 
 def body_water_load(model: ForceModel, params: WaterParams, stone, position, R, velocity, omega, surface):
@@ -392,11 +399,7 @@ def body_water_load(model: ForceModel, params: WaterParams, stone, position, R, 
 def _passive_load(model: ForceModel, params: WaterParams, stone, position, R, velocity, omega, surface):
     """:func:`body_water_load` for ``velocity="passive"``: the lift's moment about the centre of mass only
     (the friction acts there). Returns force (3,) [N], torque (3,) [N m] (world frame), wetted area () [m^2]."""
-    zeta = vertex_heights(stone, position, R, surface)
-    frac, centroid = clipping.immersed_areas_from_heights(stone.triangles, zeta, model.sharpness)
-    area = frac * stone.areas
-    v_body = quaternion.rotate_inverse(R, velocity)
-    own = v_body[None, :] + jnp.cross(quaternion.rotate_inverse(R, omega)[None, :], centroid)
+    centroid, area, v_body, own = _wetted(model, stone, position, R, velocity, omega, surface)
     lift, friction = jax.vmap(lambda n, s, w: _passive_parts(model, params, n, s, v_body, w))(stone.normals, area, own)
     torque = face_sum(jnp.cross(centroid, lift))
     return quaternion.rotate(R, face_sum(lift + friction)), quaternion.rotate(R, torque), face_sum(area)
