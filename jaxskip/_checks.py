@@ -110,8 +110,11 @@ def check_bool(name: str, value) -> bool:
 
 
 def check_choice(name: str, value, choices) -> str:
-    """Return ``value`` if it is one of ``choices`` or raise :class:`ParameterError`."""
-    if value not in choices:
+    """Return ``value`` if it is one of ``choices`` (a ``str``) or raise :class:`ParameterError`.
+
+    Only a ``str`` is a choice: a 0-d NumPy string array compares equal elementwise and passed the
+    membership test, then made its config unhashable (a TypeError at the first jit)."""
+    if not isinstance(value, str) or value not in choices:
         raise ParameterError(f"{name} must be one of {', '.join(map(repr, choices))}; got {value!r}")
     return value
 

@@ -284,7 +284,8 @@ def default_lanes(n: int, devices: int = 1) -> int:
 
 
 def chunk_for(max_steps: int, target: int = 250) -> int:
-    """The divisor of ``max_steps`` nearest to ``target`` by ratio (a valid ``chunk`` for :func:`simulate_batch`).
+    """The divisor of ``max_steps`` nearest to ``target`` by ratio (a valid ``chunk`` for :func:`simulate_batch`);
+    both integers >= 1 [steps].
 
     By ratio, not difference: for a prime ``max_steps`` (2003) the choice is 2003 (one chunk a throw, its
     lane idling from its end to the chunk's) rather than 1 (a host round trip every step: measured 20×
@@ -294,6 +295,7 @@ def chunk_for(max_steps: int, target: int = 250) -> int:
     (250, 250, 2003, 100)
     """
     max_steps = check_int("max_steps", max_steps, minimum=1)
+    target = check_int("target", target, minimum=1)
     divisors = [d for d in range(1, math.isqrt(max_steps) + 1) if max_steps % d == 0]
     divisors += [max_steps // d for d in divisors]
     return min(divisors, key=lambda d: (abs(math.log(d / target)), d))

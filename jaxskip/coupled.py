@@ -75,6 +75,11 @@ in its wake), where the volume clamp's passes run: the smallest that holds them
 Speed only: the same answer."""
 
 
+MAX_OFFSET = 1e9
+"""Largest distance of the window from the origin that :func:`initial_field` takes, in columns (the offset is
+an int32, whose range ends at 2.1e9; 1e9 columns of 1 cm are 10^4 km)."""
+
+
 def default_window() -> WaterGrid:
     """The default moving water window: 64² columns of 1 cm, depth 2 cm, sponge border, smooth clamp."""
     return WaterGrid(shape=(64, 64), spacing=0.01, depth=0.02, boundary="sponge", sponge_width=8,
@@ -170,8 +175,12 @@ def advance_field(grid: WaterGrid, water_step, f: "Field", position, spread: int
 def coupled_substeps(config: SimConfig, grid: WaterGrid, water_dt: float | None = None) -> int:
     """Water steps per advance of the coupled water (:func:`make_coupled_step`): enough equal steps, each
     at most ``grid.time_step``, to cover the time an advance can find pending in contact,
-    ``max(config.dt, water_dt + min(config.dt, water_dt) / 2)`` (1 with the defaults)."""
-    water_dt = default_water_dt(grid) if water_dt is None else water_dt
+    ``max(config.dt, water_dt + min(config.dt, water_dt) / 2)`` (1 with the defaults). ``water_dt`` [s]
+    as in :func:`make_coupled_step`: in (0, ``grid.time_step``], default None (:func:`default_water_dt`)."""
+    _check_config(config)
+    _check_grid(grid)
+    water_dt = default_water_dt(grid) if water_dt is None else check_range(
+        "water_dt", water_dt, 0.0, grid.time_step, unit="s", low_open=True)
     return water_substeps(grid, max(config.dt, water_dt + 0.5 * min(config.dt, water_dt)))
 
 
@@ -269,6 +278,10 @@ def initial_field(grid: WaterGrid, position) -> Field:
     """
     _check_grid(grid)
     position = _checked_position(position)
+    far = MAX_OFFSET * grid.spacing
+    if not isinstance(position, jax.core.Tracer) and float(jnp.max(jnp.abs(position[:2]))) > far:
+        raise ParameterError(f"position's x and y must lie within ±{far:g} m ({MAX_OFFSET:g} columns of "
+                             f"{grid.spacing:g} m: the window's offset counts columns in int32), got {position!r}")
     dtype = position.dtype
     nx, ny = grid.shape
     offset = (jnp.round(position[:2] / grid.spacing).astype(jnp.int32)

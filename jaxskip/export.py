@@ -126,8 +126,12 @@ def body_mesh(stone) -> TriMesh:
 
 def stone_path(path) -> str:
     """Where :func:`write_trajectory` puts the stone for a trajectory at ``path``: ``throw.csv`` ->
-    ``throw.stone.obj``."""
-    return os.path.splitext(os.fspath(path))[0] + STONE_SUFFIX
+    ``throw.stone.obj``. ``path``: a file path (str or path-like)."""
+    try:
+        path = os.fspath(path)
+    except TypeError:
+        raise ParameterError(f"path must be a file path (a str or path-like), got {path!r:.60}") from None
+    return os.path.splitext(path)[0] + STONE_SUFFIX
 
 
 #: The first words of every stone file :func:`write_trajectory` writes (its OBJ comment line).

@@ -110,6 +110,17 @@ def _as_faces(faces, name: str) -> np.ndarray:
     return arr.astype(np.int64)
 
 
+def _check_indices(faces: np.ndarray, n_vertices: int, name: str) -> None:
+    """Raise MeshError unless every index of ``faces`` (F, 3) is in ``[0, n_vertices)``."""
+    bad = (faces < 0) | (faces >= n_vertices)
+    if bad.any():
+        f, k = map(int, np.argwhere(bad)[0])
+        one_based = " (1-based indices? OBJ files count from 1, TriMesh from 0)" if (
+            faces.min() >= 1 and faces.max() == n_vertices) else ""
+        raise MeshError(f"{name}: face {f} has vertex index {int(faces[f, k])}, outside [0, {n_vertices - 1}] "
+                        f"(the mesh has {n_vertices} vertices){one_based}")
+
+
 def _readonly(arr: np.ndarray) -> np.ndarray:
     arr = np.array(arr)  # private copy, so the caller cannot mutate it behind our back
     arr.setflags(write=False)
@@ -144,8 +155,10 @@ class TriMesh:
     """An immutable triangle mesh of a closed surface.
 
     The arrays are stored as read-only copies.  The constructor only checks
-    shapes and dtypes; call :func:`validate_mesh` to check that the surface is
-    closed, manifold and outward oriented.  Meshes compare by identity.
+    shapes, dtypes and that every face index is a vertex (in ``[0, V)``: a
+    1-based or negative index is refused, not wrapped); call :func:`validate_mesh`
+    to check that the surface is closed, manifold and outward oriented.  Meshes
+    compare by identity.
     """
 
     vertices: np.ndarray
@@ -163,6 +176,7 @@ class TriMesh:
             raise MeshError(f"name must be a str, got {self.name!r}")
         object.__setattr__(self, "vertices", _readonly(_as_vertices(self.vertices, self.name)))
         object.__setattr__(self, "faces", _readonly(_as_faces(self.faces, self.name)))
+        _check_indices(self.faces, len(self.vertices), self.name)
 
     @property
     def n_triangles(self) -> int:

@@ -45,10 +45,16 @@ ALUMINIUM_DENSITY = 2700.0
 # ---------------------------------------------------------------------------
 
 
-def _count(value, name: str, minimum: int) -> int:
-    """Return ``value`` as an int, or raise MeshError unless it is an integer >= minimum."""
-    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < minimum:
-        raise MeshError(f"{name} must be an integer >= {minimum}, got {value!r}")
+#: Most triangles a built-in parametric stone may have (``disk``'s 4 ``segments``, a pebble's
+#: 2 (``n_lat`` - 1) ``n_lon``): 2^17. A stone's every triangle is clipped every step, so far fewer serve any
+#: throw (``notebooks/speed_vs_accuracy.py``: the disk converges by 512); 10^6 segments took 29 s to build.
+MAX_TRIANGLES = 2 ** 17
+
+
+def _count(value, name: str, minimum: int, maximum: int) -> int:
+    """Return ``value`` as an int, or raise MeshError unless it is an integer in [minimum, maximum]."""
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or not minimum <= value <= maximum:
+        raise MeshError(f"{name} must be an integer in [{minimum}, {maximum}], got {value!r}")
     return int(value)
 
 
@@ -193,7 +199,7 @@ def disk(radius: float, thickness: float, segments: int = 32) -> TriMesh:
     thickness : float
         Height of the cylinder [m], > 0.
     segments : int
-        Number of rim vertices, >= 3.
+        Number of rim vertices, in [3, 32768] (4 n triangles, at most :data:`MAX_TRIANGLES`).
 
     Returns
     -------
@@ -202,7 +208,7 @@ def disk(radius: float, thickness: float, segments: int = 32) -> TriMesh:
     """
     radius = _positive_scalar(radius, "radius [m]")
     half = 0.5 * _positive_scalar(thickness, "thickness [m]")
-    n = _count(segments, "segments", 3)
+    n = _count(segments, "segments", 3, MAX_TRIANGLES // 4)
     phi = _ring_angles(n)
     rim = np.stack([radius * np.cos(phi), radius * np.sin(phi), np.zeros(n)], axis=1)
     rings = [(rim + (0.0, 0.0, half), phi), (rim - (0.0, 0.0, half), phi)]
@@ -228,7 +234,7 @@ def ellipsoid_pebble(semi_axes=(0.03, 0.025, 0.008), n_lat: int = 8, n_lon: int 
     n_lat : int
         Number of latitude bands, >= 2 (``n_lat - 1`` rings between the poles).
     n_lon : int
-        Vertices per ring, >= 3.
+        Vertices per ring, >= 3; the ``2 (n_lat - 1) n_lon`` triangles at most :data:`MAX_TRIANGLES` (131072).
 
     Returns
     -------
@@ -266,7 +272,7 @@ def irregular_pebble(seed: int = 0, radius: float = 0.04, thickness: float = 0.0
         Unperturbed full thickness [m], > 0.
     n_lat, n_lon : int
         Latitude bands (>= 2) and vertices per ring (>= 3), as in
-        :func:`ellipsoid_pebble`.
+        :func:`ellipsoid_pebble` (at most :data:`MAX_TRIANGLES` triangles).
     roughness : float
         Relative amplitude of the perturbation, in [0, 1).
 
@@ -308,8 +314,11 @@ def _uv_pebble(semi_axes, n_lat, n_lon, perturbation, name: str) -> TriMesh:
     if len(axes) != 3:
         raise MeshError(f"semi_axes must be 3 positive lengths [m], got {semi_axes!r}")
     axes = np.array([_positive_scalar(x, f"semi_axes[{i}] [m]") for i, x in enumerate(axes)])
-    n_lat = _count(n_lat, "n_lat", 2)
-    n_lon = _count(n_lon, "n_lon", 3)
+    n_lat = _count(n_lat, "n_lat", 2, MAX_TRIANGLES // 6 + 1)
+    n_lon = _count(n_lon, "n_lon", 3, MAX_TRIANGLES // 2)
+    if 2 * (n_lat - 1) * n_lon > MAX_TRIANGLES:
+        raise MeshError(f"n_lat = {n_lat} and n_lon = {n_lon} make 2 (n_lat - 1) n_lon = {2 * (n_lat - 1) * n_lon} "
+                        f"triangles; at most {MAX_TRIANGLES} (MAX_TRIANGLES)")
 
     def surface(theta, phi):
         theta, phi = np.broadcast_arrays(np.asarray(theta, float), np.asarray(phi, float))

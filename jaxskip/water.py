@@ -758,6 +758,31 @@ def total_volume(grid: WaterGrid, state: WaterState):
     return jnp.sum(state.height) * grid.spacing ** 2
 
 
+def _real_points(name: str, value):
+    """``value`` as a JAX array of real numbers (a list or a traced value too); a string, a bool or an
+    object array is refused with :class:`ParameterError` naming ``name`` (a list met ``x - origin`` as a
+    raw TypeError)."""
+    if isinstance(value, (str, bytes)):
+        raise ParameterError(f"{name} must be real numbers [m] (a number or an array), got {value!r}")
+    try:
+        arr = jnp.asarray(value)
+    except (TypeError, ValueError):
+        raise ParameterError(f"{name} must be real numbers (a number or an array), got {value!r:.60}") from None
+    if not (jnp.issubdtype(arr.dtype, jnp.floating) or jnp.issubdtype(arr.dtype, jnp.integer)):
+        raise ParameterError(f"{name} must be real numbers (a number or an array), got dtype {arr.dtype}")
+    return arr
+
+
+def _origin_xy(grid, origin):
+    """``(ox, oy)`` [m]: ``grid.origin``, or ``origin`` checked to be two real numbers (may be traced)."""
+    if origin is None:
+        return grid.origin
+    o = _real_points("origin", origin)
+    if o.shape != (2,):
+        raise ParameterError(f"origin must be the (x, y) [m] of column (0, 0): 2 numbers, got shape {o.shape}")
+    return o[0], o[1]
+
+
 def height_at(grid: WaterGrid, height, x, y, origin=None):
     """Water surface elevation [m] above the rest level at points ``(x, y)`` [m], bilinear.
 
@@ -767,12 +792,17 @@ def height_at(grid: WaterGrid, height, x, y, origin=None):
     rectangle spanned by the column centres (each coordinate clipped separately) and interpolated
     there: beyond a side it reads the bilinear value along that edge (between the two nearest
     edge columns), beyond a corner the corner column's.
-    Returns ``height - depth`` interpolated, with the shape of ``x``.
+    ``x``, ``y``: real numbers or arrays of one shape [m]. Returns ``height - depth`` interpolated, with
+    the shape of ``x`` [m]. Bad input raises :class:`ParameterError` naming it.
     """
     nx, ny = _check_grid(grid).shape
+    height = _real_points("height", height)
     if tuple(jnp.shape(height)) != grid.shape:
         raise ParameterError(f"height must have the grid's shape {grid.shape}, got {tuple(jnp.shape(height))}")
-    ox, oy = grid.origin if origin is None else (origin[0], origin[1])
+    x, y = _real_points("x", x), _real_points("y", y)
+    if x.shape != y.shape:
+        raise ParameterError(f"x and y must have one shape, got x {x.shape}, y {y.shape}")
+    ox, oy = _origin_xy(grid, origin)
     fx = jnp.clip((x - ox) / grid.spacing, 0.0, nx - 1.0)
     fy = jnp.clip((y - oy) / grid.spacing, 0.0, ny - 1.0)
     i0 = jnp.clip(jnp.floor(fx).astype(jnp.int32), 0, nx - 2)
@@ -797,12 +827,13 @@ def deposit(grid: WaterGrid, x, y, value, origin=None, into=None):
     whole loop out of it: ``jaxskip/_xla.py``).
     """
     nx, ny = _check_grid(grid).shape
+    x, y, value = _real_points("x", x), _real_points("y", y), _real_points("value", value)
     shapes = {name: tuple(jnp.shape(v)) for name, v in (("x", x), ("y", y), ("value", value))}
     if len(set(shapes.values())) != 1:
         raise ParameterError("x, y and value must have one shape, got " + ", ".join(f"{k} {v}" for k, v in shapes.items()))
     if into is not None and tuple(jnp.shape(into)) != grid.shape:  # (a wrong shape wrote to clamped columns)
         raise ParameterError(f"into must have the grid's shape {grid.shape}, got {tuple(jnp.shape(into))}")
-    ox, oy = grid.origin if origin is None else (origin[0], origin[1])
+    ox, oy = _origin_xy(grid, origin)
     fx = jnp.ravel((x - ox) / grid.spacing)
     fy = jnp.ravel((y - oy) / grid.spacing)
     inside = (fx >= 0) & (fx <= nx - 1) & (fy >= 0) & (fy <= ny - 1)

@@ -148,30 +148,56 @@ class Box:
         u = np.asarray(u, dtype=float)
         return {name: lo + (hi - lo) / (1.0 + np.exp(-u[..., i])) for i, (name, lo, hi) in enumerate(self.searched)}
 
-    def from_user(self, values: dict) -> np.ndarray:
-        """User-unit values of the searched parameters (inside the box) -> unconstrained ``u`` (..., P).
-
-        A value on a bound maps to ±13.8 (the logit of 1e-6 from it); one outside the box, or NaN, is
-        refused."""
+    def _searched_values(self, values) -> dict:
+        """``values`` checked: a dict giving every searched parameter and no other (a held or unknown name
+        is refused, not dropped or allowed to replace the held value), each a real number or array of them
+        (no strings or bools), finite and inside the box (to 1e-9 of its range); returns float arrays."""
+        if not isinstance(values, Mapping):
+            raise ParameterError(f"values must be a dict {{parameter: value}} of the searched parameters "
+                                 f"({', '.join(self.names)}) in user units, got {type(values).__name__}")
         missing = [name for name in self.names if name not in values]
+        extra = [name for name in values if name not in self.names]
+        if extra:
+            held = dict(self.held)
+            why = [f"{n!r} is held at {held[n]:g} by the box" if n in held else f"{n!r} is not a throw parameter"
+                   for n in extra]
+            raise ParameterError(f"values may give only the searched parameters ({', '.join(self.names)}): "
+                                 f"{'; '.join(why)}")
         if missing:
             raise ParameterError(f"values must give every searched parameter ({', '.join(self.names)}); "
                                  f"missing {', '.join(missing)}")
+        out = {}
+        for name, lo, hi in self.searched:
+            raw = np.asarray(values[name])
+            if raw.dtype.kind not in "iuf":
+                raise ParameterError(f"{name} must be a real number or an array of them (user units), got "
+                                     f"{values[name]!r}")
+            v = raw.astype(float)
+            tol = 1e-9 * (hi - lo)
+            inside = (v >= lo - tol) & (v <= hi + tol)   # False for NaN
+            if not np.all(inside):
+                bad = float(v[~inside].flat[0]) if v.ndim else float(v)
+                raise ParameterError(f"{name} must lie within the box [{lo:g}, {hi:g}] {LIMITS[name][2]}, "
+                                     f"got {bad!r}")
+            out[name] = v
+        return out
+
+    def from_user(self, values: dict) -> np.ndarray:
+        """User-unit values of the searched parameters (inside the box) -> unconstrained ``u`` (..., P).
+
+        A value on a bound maps to ±13.8 (the logit of 1e-6 from it); one outside the box, NaN, a string,
+        a missing searched parameter, or a held or unknown one is refused (:class:`~jaxskip.ParameterError`)."""
+        checked = self._searched_values(values)
         cols = []
         for name, lo, hi in self.searched:
-            v = np.asarray(values[name], dtype=float)
-            tol = 1e-9 * (hi - lo)
-            if not np.all((v >= lo - tol) & (v <= hi + tol)):
-                bad = float(v[~((v >= lo - tol) & (v <= hi + tol))].flat[0]) if v.ndim else float(v)
-                raise ParameterError(f"{name} must lie within the box [{lo:g}, {hi:g}], got {bad!r}")
-            f = np.clip((v - lo) / (hi - lo), 1e-6, 1 - 1e-6)
+            f = np.clip((checked[name] - lo) / (hi - lo), 1e-6, 1 - 1e-6)
             cols.append(np.log(f / (1.0 - f)))
         return np.stack(cols, axis=-1)
 
     def throws_from_user(self, values: dict) -> Throw:
-        """Validated :class:`Throw` batch from user-unit arrays of the searched parameters."""
-        full = dict(self.held)
-        full.update(values)
+        """Validated :class:`Throw` batch from user-unit arrays of the searched parameters (every one, inside
+        the box, checked as in :meth:`from_user`), with the box's held values for the others."""
+        full = {**dict(self.held), **self._searched_values(values)}
         return Throw.from_degrees(speed=full["speed"], tilt=full["tilt"], attack=full["attack"], spin=full["spin"])
 
     def to_dict(self) -> dict:

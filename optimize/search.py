@@ -631,7 +631,10 @@ def local_search(box: Box, centres: dict, *, throws: int = 256, scale: float = 0
         if name not in centres:
             raise ParameterError(f"centres must give every searched parameter; missing {name!r}")
         try:
-            c = np.atleast_1d(np.asarray(centres[name], dtype=float))
+            c = np.atleast_1d(np.asarray(centres[name]))
+            if c.dtype.kind not in "iuf":   # ("7" converted to 7.0 before; True to 1.0)
+                raise TypeError
+            c = c.astype(float)
         except (TypeError, ValueError):
             raise ParameterError(f"centres[{name!r}] must be numbers in user units, got {centres[name]!r:.60}") from None
         if c.ndim != 1 or c.size == 0 or (m is not None and c.size != m):

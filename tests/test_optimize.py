@@ -171,6 +171,28 @@ def test_from_user_names_a_missing_parameter():
         box.from_user({"speed": 5.0})
 
 
+@pytest.mark.parametrize("values, message", [
+    ({"speed": 7.0, "tilt": 80.0}, "only the searched parameters \\(speed\\): 'tilt' is held at 20 by the box"),
+    ({"speed": 60.0}, r"speed must lie within the box \[6, 8\] m/s, got 60.0"),
+    ({"speed": [7.0, float("nan")]}, r"speed must lie within the box \[6, 8\] m/s, got nan"),
+    ({"sped": 7.0}, "'sped' is not a throw parameter"),
+    ({"speed": "7"}, "speed must be a real number"),
+    ({"speed": True}, "speed must be a real number"),
+    ([7.0], "values must be a dict"),
+])
+def test_box_user_values_are_checked(values, message):
+    """Box.from_user and Box.throws_from_user refuse what they once took (2026-12-05 review): a held
+    parameter's value silently replaced the held one (tilt 80 for the box's 20), a value outside the
+    box (and LIMITS) was thrown, a misspelt name was dropped or gave a KeyError, a string was converted."""
+    box = make_box({"speed": (6.0, 8.0)}, {"tilt": 20.0, "attack": 5.0, "spin": 20.0})
+    for convert in (box.from_user, box.throws_from_user):
+        with pytest.raises(ParameterError, match=message):
+            convert(values)
+    t = box.throws_from_user({"speed": np.array([6.0, 7.5])})
+    np.testing.assert_allclose(np.asarray(t.speed), [6.0, 7.5])
+    np.testing.assert_allclose(np.rad2deg(np.asarray(t.tilt)), [20.0, 20.0])
+
+
 def test_box_reparameterisation_stays_inside():
     box = make_box({"speed": (3.0, 12.0), "tilt": (5.0, 45.0)}, held={"spin": 10.0})
     t = box.to_throw(jnp.array([[-50.0, 50.0], [0.0, 0.0]]))
@@ -378,6 +400,9 @@ def test_every_search_checks_its_water(search, kwargs):
     # (session 32) a raw ValueError naming nothing; a misspelt name ignored
     ({"speed": ["a"]}, {}, r"centres\['speed'\] must be numbers in user units, got \['a'\]"),
     ({"speed": [5.0], "height": [0.1]}, {}, "centres gives 'height', not a searched parameter; the box searches speed"),
+    # (2026-12-05) a string centre was converted ("7" ran as 7 m/s), a bool too
+    ({"speed": ["7"]}, {}, r"centres\['speed'\] must be numbers in user units, got \['7'\]"),
+    ({"speed": [True]}, {}, r"centres\['speed'\] must be numbers"),
 ])
 def test_local_search_bad_input(centres, kwargs, message):
     box = make_box({"speed": (3.0, 10.0)}, held={"tilt": 20.0, "attack": 10.0, "spin": 15.0})

@@ -251,7 +251,7 @@ def _bad_inputs():
                                 width=0.0), r"width must be > 0 m"),
         (lambda: Box(searched=(("speed", -5.0, 500.0),), held=()), r"speed must lie within \[0.1, 50\] m/s"),
         (lambda: make_box().from_user({"speed": [15.0], "tilt": [10.0], "attack": [1.0], "spin": [1.0]}),
-         r"speed must lie within the box \[3, 12\], got 15.0"),
+         r"speed must lie within the box \[3, 12\] m/s, got 15.0"),
         (lambda: make_box({"speed": (3.0, 12.0)}, {"tilt": "steep"}), "tilt must be a real number"),
         (lambda: grid_search(per_axis=1000), r"per_axis must be at most 100 for 4 searched parameters"),
         (lambda: grid_search("human"), "box must be an optimize.Box"),
@@ -779,3 +779,49 @@ def test_to_dict_parameters_hold_every_setting_that_changes_the_answer():
     names |= {f.name for f in dataclasses.fields(ForceModel)} - {"law"}
     assert names <= set(pa), names - set(pa)
     assert pa["force_law"] == "bocquet"
+
+
+def _review_2026_12_05_bad_inputs():
+    import numpy as np
+    import jax.numpy as jnp
+    from jaxskip import coupled, export
+    from jaxskip.batch import chunk_for
+    from jaxskip.stones import disk, ellipsoid_pebble
+    from jaxskip.water import WaterGrid, deposit, height_at, still_water
+
+    grid = WaterGrid(shape=(8, 8))
+    h = still_water(grid).height
+    return [
+        # a 0-d NumPy string passed the membership test, then made the config unhashable at the first jit
+        (lambda: SimConfig(integrator=np.array("rk4")), "integrator must be one of 'euler', 'rk4'"),
+        (lambda: ForceModel(law=np.array("bocquet")), "law must be one of"),
+        (lambda: WaterGrid(shape=(8, 8), clamp=np.array("smooth")), "clamp must be one of"),
+        # lists, mismatched shapes and a short origin met raw TypeErrors, broadcasting or index errors
+        (lambda: height_at(grid, h, [0.01, 0.02], [0.0, 0.0], origin=(0.0,)), r"origin must be .* 2 numbers"),
+        (lambda: height_at(grid, h, jnp.zeros(3), jnp.zeros(4)), r"x and y must have one shape, got x \(3,\), y \(4,\)"),
+        (lambda: height_at(grid, h, "0.1", 0.0), "x must be real numbers"),
+        (lambda: height_at(grid, h, 0.0, [True]), "y must be real numbers"),
+        (lambda: deposit(grid, [0.01], [0.01], ["a"]), "value must be real numbers"),
+        # the coupled water's substep count took any water_dt (a NaN gave 1, 1e6 s gave 10^8 substeps)
+        (lambda: coupled.coupled_substeps(SimConfig(), coupled.default_window(), float("nan")), "water_dt"),
+        (lambda: coupled.coupled_substeps(SimConfig(), coupled.default_window(), 1e6), r"water_dt must be in \(0, "),
+        (lambda: coupled.coupled_substeps(None, coupled.default_window()), "config must be a jaxskip.SimConfig"),
+        # a window 1e30 m away wrapped its int32 column offset to [2147483615, -32]
+        (lambda: coupled.initial_field(coupled.default_window(), [1e30, 0.0]), r"position's x and y must lie within"),
+        # a ZeroDivisionError and a math domain error
+        (lambda: chunk_for(100, target=0), "target must be an integer >= 1"),
+        (lambda: chunk_for(100, target=-5), "target must be an integer >= 1"),
+        # 10^6 segments built 4 million triangles in 29 s without a word
+        (lambda: disk(0.05, 0.01, segments=10 ** 6), r"segments must be an integer in \[3, 32768\]"),
+        (lambda: ellipsoid_pebble(n_lat=1000, n_lon=1000), r"at most 131072"),
+        (lambda: export.stone_path(None), "path must be a file path"),
+    ]
+
+
+@pytest.mark.parametrize("index", range(len(_review_2026_12_05_bad_inputs())))
+def test_review_fixes_2026_12_05(index):
+    """Found by a review of the lower-level public API (2026-12-05): each failed with a raw TypeError,
+    IndexError or ZeroDivisionError naming no parameter, or ran on with a value it should refuse."""
+    call, message = _review_2026_12_05_bad_inputs()[index]
+    with pytest.raises(ParameterError, match=message):
+        call()
