@@ -54,9 +54,10 @@ def _as_float(name: str, value, valid: str = "") -> float:
     return value
 
 
-def check_real(name: str, value, *, unit: str = "") -> float:
-    """Return ``value`` as a finite float or raise :class:`ParameterError`."""
-    return _as_float(name, value)
+def check_real(name: str, value, *, unit: str = "", valid: str = "") -> float:
+    """Return ``value`` as a finite float or raise :class:`ParameterError`; ``valid`` (e.g. "> 0 kg") completes
+    the message (the caller checks that range itself)."""
+    return _as_float(name, value, valid)
 
 
 def check_positive(name: str, value, *, unit: str = "") -> float:

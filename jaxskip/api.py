@@ -23,7 +23,7 @@ import numpy as np
 from ._docs import document_fields
 from ._progress import ProgressLine
 from ._arrays import float_array, float_leaves
-from ._checks import ParameterError, check_bool, check_int, check_positive, check_range
+from ._checks import ParameterError, check_bool, check_int, check_positive, check_range, check_real
 from .body import DENSITY_RANGE, RigidStone, rigid_stone
 from .forces import DEFAULT_COEFFICIENTS, WaterParams, water_params
 from . import quaternion
@@ -277,7 +277,7 @@ def _builtin_stone(name: str, entry: tuple, mass, density, x64: bool) -> tuple[R
 
 def _rigid_from_mesh(mesh, default_density, *, mass, density):
     if mass is not None:
-        return rigid_stone(mesh, mass=check_positive("mass", mass, unit="kg")), mesh.name
+        return rigid_stone(mesh, mass=check_real("mass", mass, valid="> 0 kg")), mesh.name   # (its range: rigid_stone)
     d = default_density if density is None else check_positive("density", density, unit="kg/m^3")
     return rigid_stone(mesh, density=d), mesh.name
 
@@ -298,7 +298,7 @@ def resolve_stone(stone, *, mass=None, density=None) -> tuple[RigidStone, str]:
         return float_leaves(stone.check()), "custom"
     if isinstance(stone, str) and stone in BUILTIN_STONES:
         # validated (and made hashable floats) before the cache sees them
-        mass = None if mass is None else check_positive("mass", mass, unit="kg")
+        mass = None if mass is None else check_real("mass", mass, valid="> 0 kg")   # (its range: rigid_stone)
         density = None if density is None else check_range("density", density, *DENSITY_RANGE,
                                                            unit="kg/m^3 (cork to osmium)")
         # named as asked: "clanet" is a mesh named "disk", another size than the built-in "disk"
@@ -506,7 +506,7 @@ def simulate(
         carry = carry + (initial_field(water_field, carry[0].position),)
         volume0 = float(total_volume(water_field, carry[2].water))
     records = []
-    done, line = 0, ProgressLine()
+    done, live, line = 0, 0, ProgressLine()
     while done < config.max_steps:
         n = min(chunk, config.max_steps - done)  # the last chunk stops at max_steps (compiled only if reached)
         carry, rec = runner(n)(carry, throw, np.bool_(start), rigid, water)
@@ -521,8 +521,9 @@ def simulate(
         # Read on the host: indexing the device array would compile three tiny kernels (~0.1 s) on a
         # first call.
         alive = bool(np.asarray(carry[1].counters)[_ALIVE])
-        if progress:
-            line.update(f"  simulated {float(carry[0].time):6.3f} s in {done} steps")
+        if progress:   # the steps in play so far (as ThrowResult.steps counts them), not the chunks' length
+            live += int(np.sum(np.diff(records[-1].time, prepend=-1.0) > 0))
+            line.update(f"  simulated {float(carry[0].time):6.3f} s in {live} steps")
         if not alive:
             break
     if progress:

@@ -14,7 +14,7 @@ import numpy as np
 
 from ._docs import document_fields
 from ._arrays import float_array
-from ._checks import ParameterError, check_positive, check_range
+from ._checks import ParameterError, check_range, check_real
 from .mesh import TriMesh, mass_properties, validate_mesh
 
 
@@ -205,17 +205,17 @@ def rigid_stone(mesh: TriMesh, *, density: float | None = None, mass: float | No
     if density is not None:
         check_range("density", density, lo, hi, unit="kg/m^3 (cork to osmium)")
     if mass is not None:
-        check_positive("mass", mass, unit="kg")
+        mass = check_real("mass", mass, valid="> 0 kg")   # (a mass <= 0 gets this stone's range, below)
     validate_mesh(mesh.vertices, mesh.faces, name=mesh.name)  # closed, outward, no degenerate triangle
-    props = mass_properties(mesh, density=density, mass=mass)
     if mass is not None:
-        volume = float(props.volume)
+        volume = float(mass_properties(mesh, density=1.0).volume)
         if not lo <= float(mass) / volume <= hi:
             low, high = _round_inside(lo * volume, hi * volume)
             raise ParameterError(
                 f"mass must be in [{low:.3g}, {high:.3g}] kg for this stone "
                 f"({volume * 1e6:.3g} cm^3: densities {lo:g}-{hi:g} kg/m^3, cork to osmium), got {float(mass)!r} "
                 f"(density {float(mass) / volume:.3g} kg/m^3)")
+    props = mass_properties(mesh, density=density, mass=mass)
     axes = principal_axes(np.asarray(props.inertia, dtype=np.float64))
     v = (np.asarray(mesh.vertices, dtype=np.float64) - np.asarray(props.center_of_mass)) @ axes
     radius = float(np.max(np.linalg.norm(v, axis=1)))

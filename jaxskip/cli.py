@@ -298,6 +298,9 @@ def _summary(result) -> str:
     lines.extend(_energy_lines(result))
     if result.outcome == "step_limit":
         lines.append("note: the step budget ran out while the stone was still in play; raise --max-steps")
+    elif result.outcome == "time_limit":   # (said nothing before: a cut-off throw read like a finished one)
+        lines.append(f"note: the run reached --duration ({result.config.duration:g} s) with the stone still in play; "
+                     "its bounces and distance are those so far: raise --duration for the whole throw")
     return "\n".join(lines)
 
 

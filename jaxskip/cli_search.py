@@ -273,8 +273,9 @@ def run_optimize(args) -> int:
             fmt = lambda v: "n/a" if v is None else f"{v:.3g}"  # noqa: E731
             st = health["starts"]
             _say(f"gradient norms (unconstrained units, before clipping): median {fmt(health['median'])}, "
-                 f"max {fmt(health['max'])}; exploding (> {EXPLODING:g}) on {st['exploding']} of {st['n']} starts, "
-                 f"vanishing (< {VANISHING:g}) on {st['vanishing']}")
+                 f"max {fmt(health['max'])}; of {st['n']} starts, exploding (> {EXPLODING:g}) at some iteration on "
+                 f"{st['exploding']}, vanishing (< {VANISHING:g}) at every iteration on {st['vanishing']} and at some "
+                 f"iteration on {st['vanishing_some']}")
             if st["exploding"]:
                 _say("  an exploding gradient comes from the rollout's chaos, not the count's trend: its step is "
                      "noise (a shorter --horizon tames it; --method perturbation smooths the count instead of "

@@ -244,7 +244,31 @@ class TriMesh:
 # ---------------------------------------------------------------------------
 
 
-def validate_mesh(vertices, faces, *, name: str = "mesh") -> None:
+class _Numbering:
+    """How error messages name triangles and vertices: from 0 in array order (default), or, for a mesh
+    read from an OBJ file, by the file's ``f`` line each triangle came from and the file's 1-based vertex
+    numbers (``lines`` (F,) and ``numbers`` (V,) ints)."""
+
+    def __init__(self, lines=None, numbers=None):
+        self.lines, self.numbers = lines, numbers
+
+    def tri(self, i) -> str:
+        return f"triangle {int(i)}" if self.lines is None else f"the triangle of line {int(self.lines[int(i)])}"
+
+    def tris(self, idx) -> str:
+        idx = [int(i) for i in idx]
+        if self.lines is None:
+            return f"triangles {idx}"
+        return f"the triangles of lines {[int(self.lines[i]) for i in idx]}"
+
+    def vert(self, i) -> str:
+        return f"vertex {int(i)}" if self.numbers is None else f"vertex {int(self.numbers[int(i)])}"
+
+    def verts(self, idx) -> list:
+        return [int(i) if self.numbers is None else int(self.numbers[int(i)]) for i in idx]
+
+
+def validate_mesh(vertices, faces, *, name: str = "mesh", _numbering: _Numbering | None = None) -> None:
     """Check that ``(vertices, faces)`` is a closed, outward-oriented triangle mesh.
 
     Parameters
@@ -282,12 +306,13 @@ def validate_mesh(vertices, faces, *, name: str = "mesh") -> None:
     v = _as_vertices(vertices, name)
     f = _as_faces(faces, name)
     n_v, n_f = len(v), len(f)
+    at = _Numbering() if _numbering is None else _numbering
     if n_f < 4:
         raise MeshError(f"{name}: a closed mesh needs at least 4 triangles, got {n_f}")
 
     bad = np.flatnonzero(~np.all(np.isfinite(v), axis=1))
     if bad.size:
-        raise MeshError(f"{name}: vertex {bad[0]} is not finite ({v[bad[0]].tolist()}); "
+        raise MeshError(f"{name}: {at.vert(bad[0])} is not finite ({v[bad[0]].tolist()}); "
                         "all coordinates must be finite numbers")
 
     bad = np.flatnonzero(np.any((f < 0) | (f >= n_v), axis=1))
@@ -297,22 +322,22 @@ def validate_mesh(vertices, faces, *, name: str = "mesh") -> None:
 
     bad = np.flatnonzero((f[:, 0] == f[:, 1]) | (f[:, 1] == f[:, 2]) | (f[:, 2] == f[:, 0]))
     if bad.size:
-        raise MeshError(f"{name}: triangle {bad[0]} repeats a vertex index {f[bad[0]].tolist()}; "
+        raise MeshError(f"{name}: {at.tri(bad[0])} repeats a vertex index {at.verts(f[bad[0]])}; "
                         "remove this degenerate triangle")
 
     unused = np.setdiff1d(np.arange(n_v), f)
     if unused.size:
-        raise MeshError(f"{name}: {unused.size} of its {n_v} vertices (the first: vertex {unused[0]}) belong to "
+        raise MeshError(f"{name}: {unused.size} of its {n_v} vertices (the first: {at.vert(unused[0])}) belong to "
                         "no triangle; remove them (they would count towards the stone's size)")
 
     diag2 = float(np.sum(np.ptp(v, axis=0) ** 2))
     areas = 0.5 * np.linalg.norm(_triangle_cross(v, f), axis=1)
     bad = np.flatnonzero(areas <= DEGENERATE_AREA_FRACTION * diag2)
     if bad.size:
-        raise MeshError(f"{name}: triangle {bad[0]} {f[bad[0]].tolist()} is degenerate "
+        raise MeshError(f"{name}: {at.tri(bad[0])} {at.verts(f[bad[0]])} is degenerate "
                         f"(area {areas[bad[0]]:.3g} m^2); remove it or fix its vertices")
 
-    _check_edges(f, n_v, name)
+    _check_edges(f, n_v, name, at)
 
     parts = _parts(f, n_v)
     if parts.max() > 0:
@@ -320,7 +345,7 @@ def validate_mesh(vertices, faces, *, name: str = "mesh") -> None:
         volumes = [_signed_volume(v, f[parts == k]) for k in range(min(n_parts, 5))]  # the ones shown
         raise MeshError(f"{name}: the mesh has {n_parts} separate closed parts (signed volumes "
                         f"{', '.join(f'{x:.3g}' for x in volumes[:5])}{', ...' if n_parts > 5 else ''} m^3; "
-                        f"triangles {np.flatnonzero(parts == 1)[:5].tolist()}... form the second); a stone "
+                        f"{at.tris(np.flatnonzero(parts == 1)[:5])}... form the second); a stone "
                         "must be one closed surface: remove the extra parts")
 
     volume = _signed_volume(v, f)
@@ -337,14 +362,15 @@ def _edges(faces: np.ndarray, n_vertices: int):
     return heads, tails, np.minimum(heads, tails) * n_vertices + np.maximum(heads, tails)
 
 
-def _check_edges(faces: np.ndarray, n_vertices: int, name: str) -> None:
+def _check_edges(faces: np.ndarray, n_vertices: int, name: str, at: _Numbering) -> None:
     """Raise MeshError unless every directed edge occurs once, together with its reverse."""
     heads, tails, undirected = _edges(faces, n_vertices)
     edge_triangle = np.repeat(np.arange(len(faces)), 3)
 
     def describe(edge_keys: np.ndarray, key: int) -> str:
         a, b = divmod(int(key), n_vertices)
-        return f"edge ({a}, {b}) of triangles {edge_triangle[edge_keys == key].tolist()}"
+        a, b = at.verts((a, b))
+        return f"edge ({a}, {b}) of {at.tris(edge_triangle[edge_keys == key])}"
 
     keys, counts = np.unique(undirected, return_counts=True)
     if np.any(counts == 1):
@@ -617,6 +643,7 @@ def read_obj(path: str | os.PathLike, *, name: str | None = None) -> TriMesh:
 
     vertices: list[list[float]] = []
     faces: list[tuple[int, int, int]] = []
+    face_lines: list[int] = []   # the line each triangle came from, for the messages of validate_mesh
     # Lines end at "\n" only (str.splitlines would also split at U+2028, form feeds, ... inside a comment).
     for lineno, line in enumerate(text.replace("\r\n", "\n").replace("\r", "\n").split("\n"), start=1):
         if len(line) > MAX_OBJ_LINE:
@@ -636,6 +663,7 @@ def read_obj(path: str | os.PathLike, *, name: str | None = None) -> TriMesh:
                 if len(idx) > 3 and len(set(idx)) == len(idx):   # (a repeated vertex: a degenerate triangle, below)
                     _check_fan(vertices, idx)
                 faces.extend((idx[0], idx[k], idx[k + 1]) for k in range(1, len(idx) - 1))
+                face_lines.extend([lineno] * (len(idx) - 2))
             else:
                 raise ValueError(f"unsupported statement {tokens[0][:20]!r}")
         except ValueError as err:
@@ -643,11 +671,13 @@ def read_obj(path: str | os.PathLike, *, name: str | None = None) -> TriMesh:
 
     v = np.array(vertices, dtype=np.float64).reshape(-1, 3)
     f = np.array(faces, dtype=np.int64).reshape(-1, 3)
+    numbers = np.arange(1, len(v) + 1)   # the file's vertex numbers (OBJ counts from 1)
     if f.size:  # vertices no face uses are not part of the surface: drop them
         used = np.unique(f)
         if used.size < len(v) and used.max() < len(v) and used.min() >= 0:
-            v, f = v[used], np.searchsorted(used, f)
-    validate_mesh(v, f, name=fname)
+            v, f, numbers = v[used], np.searchsorted(used, f), numbers[used]
+    # (messages name the file's lines and vertex numbers: "triangle 12 [0, 0, 1]" was line 21's "f 1 1 2")
+    validate_mesh(v, f, name=fname, _numbering=_Numbering(np.array(face_lines, dtype=np.int64), numbers))
     return TriMesh(v, f, name if name is not None else path.stem)
 
 

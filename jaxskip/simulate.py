@@ -51,7 +51,7 @@ import numpy as np
 from ._docs import document_fields
 from . import quaternion as quat
 from ._arrays import face_max, face_min
-from ._checks import ParameterError, check_bool, check_choice, check_int, check_positive, check_range
+from ._checks import ParameterError, check_bool, check_choice, check_int, check_positive, check_range, check_real
 from .body import RigidStone
 from .forces import (ForceModel, WaterParams, body_total_force, body_triangle_forces, body_water_load, flat_surface,
                      vertex_heights)
@@ -158,7 +158,7 @@ class SimConfig:
         # (checked values stored as plain floats: a NumPy scalar or 0-d array would not hash)
         set_ = functools.partial(object.__setattr__, self)
         set_("dt", check_range("dt", self.dt, 0.0, MAX_DT, unit="s", low_open=True))
-        set_("duration", check_positive("duration", self.duration, unit="s"))
+        set_("duration", check_real("duration", self.duration, valid="> 0 s"))   # (and >= dt, below)
         if self.duration < self.dt:
             raise ParameterError(f"duration must be >= dt ({self.dt:g} s), got {self.duration:g} s (the first step "
                                  "would already overrun it)")

@@ -384,6 +384,9 @@ def load_stone(name_or_path: str | os.PathLike) -> tuple[TriMesh, float]:
         return factory(), density
     path = Path(name_or_path)
     if path.suffix.lower() != ".obj":
+        if path.is_file():   # (it was "unknown", as if the file were not there)
+            raise MeshError(f"stone file {str(name_or_path)!r} exists but is not an .obj file: jaxskip reads "
+                            "Wavefront OBJ meshes only, named *.obj (rename it if it is one)")
         raise MeshError(f"stone {str(name_or_path)!r} is unknown; valid names are "
                         f"{', '.join(sorted(BUILTIN_STONES))}, or give a path to an .obj file")
     if not path.is_file():

@@ -102,6 +102,11 @@ def test_obj_stone(tmp_path):
     (["--max-steps", "1_0"], "argument --max-steps: must be a whole number, got '1_0'"),
     (["--plot", "out/.png"], "--plot needs a file name before its suffix"),
     (["--water", "field", "--plot", "a.png", "--water-plot", "./a.png"], "--water-plot and --plot name the same file"),
+    # (2026-12-05, a new user's review) 0 and -1 were "> 0 kg" / "> 0 s", not the stone's range or the rule >= --dt
+    (["--mass", "0"], "--mass must be in [0.00456, 1.13] kg for this stone (45.5 cm^3"),
+    (["--stone", "clanet", "--mass", "-1"], "--mass must be in [0.000537, 0.134] kg for this stone"),
+    (["--duration", "0"], "--duration must be >= dt (0.00025 s), got 0 s"),
+    (["--duration", "-1", "--dt", "1e-4"], "--duration must be >= dt (0.0001 s), got -1 s"),
 ])
 def test_bad_input_exits_2_without_traceback(args, needle):
     p = run("throw", *args)
@@ -527,3 +532,25 @@ def test_a_throw_that_diverges_is_an_error_not_a_result(tmp_path):
     assert p.returncode == 1 and "Traceback" not in p.stderr and p.stdout == "", (p.returncode, p.stderr[-2000:])
     assert "stability estimate" in p.stderr and "error: the throw diverged" in p.stderr, p.stderr
     assert not png.exists()
+
+
+def test_a_stone_file_without_the_obj_suffix_is_named_as_such(tmp_path):
+    """(2026-12-05) an existing mesh file named cube.txt was called an unknown stone name."""
+    from jaxskip import ellipsoid_pebble, write_obj
+
+    path = tmp_path / "cube.txt"
+    write_obj(tmp_path / "cube.obj", ellipsoid_pebble())
+    path.write_text((tmp_path / "cube.obj").read_text())
+    p = run("throw", "--stone", str(path))
+    assert p.returncode == 2 and "Traceback" not in p.stderr
+    assert f"--stone file '{path}' exists but is not an .obj file" in p.stderr, p.stderr
+
+
+def test_a_throw_cut_off_by_duration_says_so(capsys):
+    """(2026-12-05) --duration 0.01 ended 'outcome: time limit' in the water with no note (--max-steps had one)."""
+    assert main(["throw", "--duration", "0.01"]) == 0
+    out = capsys.readouterr().out
+    assert "outcome: time limit" in out
+    assert "note: the run reached --duration (0.01 s) with the stone still in play" in out
+    assert main(["throw"]) == 0
+    assert "note: the run reached" not in capsys.readouterr().out

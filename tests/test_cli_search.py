@@ -284,6 +284,9 @@ def test_optimize_gradient_reports_gradient_norms(tmp_path, capsys, monkeypatch)
     assert "best 1 bounces" not in err and "smooth count's mean" in err
     monkeypatch.setattr(sys.stderr, "isatty", lambda: False)
     assert "gradient norms (unconstrained units, before clipping): median" in text
+    # (2026-12-05) "vanishing on 0" meant "at every iteration" while "exploding" meant "at some": now both say
+    assert re.search(r"of 2 starts, exploding \(> 1000\) at some iteration on \d, vanishing \(< 1e-06\) at every "
+                     r"iteration on \d and at some iteration on \d\n", text), text
     assert "the polish (8 exact throws near its best throws)" in text
     assert (tmp_path / "search.png").stat().st_size > 10_000
     assert main(argv + ["--json"]) == 0

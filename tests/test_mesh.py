@@ -347,6 +347,29 @@ def test_read_obj_invalid_mesh(tmp_path):
         read_obj(path)
 
 
+def test_read_obj_names_triangles_by_line_and_vertices_by_obj_number(tmp_path):
+    """A file's faults point at the OBJ line of the triangle and at 1-based OBJ vertex numbers, not at
+    0-based indices of the triangulated arrays (which a user cannot find in the file)."""
+    cases = [
+        ("f 2 2 3", r"the triangle of line 17 repeats a vertex index \[2, 2, 3\]"),
+        ("f 2 4 3", r"edge \(2, 4\) of the triangles of lines \[15, 17\] runs in the same direction"),
+        ("f 2 3 4\nf 2 3 4", r"edge \(2, 3\) of the triangles of lines \[14, 17, 18\] is shared by more"),
+    ]
+    for last, message in cases:
+        path = tmp_path / "bad.obj"
+        path.write_text(TETRA_OBJ.replace("f 2/1 3/1 4/1", last))
+        with pytest.raises(MeshError, match=message):
+            read_obj(path)
+    # the arrays themselves are still named by 0-based index
+    good = tmp_path / "good.obj"
+    good.write_text(TETRA_OBJ)
+    mesh = read_obj(good)
+    faces = mesh.faces.copy()
+    faces[3] = [1, 1, 2]
+    with pytest.raises(MeshError, match=r"triangle 3 repeats a vertex index \[1, 1, 2\]"):
+        validate_mesh(mesh.vertices, faces)
+
+
 def test_load_stone_errors_and_obj(tmp_path):
     with pytest.raises(MeshError, match="clanet.*ellipsoid.*paper.*pebble.*obj"):
         load_stone("granite")

@@ -324,7 +324,7 @@ def test_gradient_health_counts_exploding_and_vanishing_gradients():
     r = SearchResult("gradient", {}, 3, history, make_box(), 1.0, 9, 6)
     h = gradient_health(r)
     assert h["of"] == 6 and h["exploding"] == 2 and h["vanishing"] == 2
-    assert h["starts"] == {"n": 3, "exploding": 2, "vanishing": 1}
+    assert h["starts"] == {"n": 3, "exploding": 2, "vanishing": 1, "vanishing_some": 1}
     assert h["median"] == 2.0 and h["max"] == 10 * EXPLODING
     assert gradient_health(dataclasses.replace(r, history=[{"bounces": [1]}])) is None
 

@@ -46,3 +46,14 @@ def test_simulate_batch_progress_into_a_file_has_no_carriage_returns(capsys):
     err = capsys.readouterr().err
     assert "\r" not in err
     assert err.endswith("\n") and err.splitlines()[-1].startswith("  2/2 throws done (")
+
+
+def test_simulate_progress_counts_the_steps_in_play(capsys):
+    """The last progress line of a throw gives its steps in play, ThrowResult.steps (the default throw:
+    1147), not the chunks run (it said 2000: two chunks of 1000)."""
+    from jaxskip import simulate
+
+    result = simulate(progress=True)
+    last = capsys.readouterr().err.splitlines()[-1]
+    assert result.steps < 2000
+    assert last.endswith(f" s in {result.steps} steps"), last
