@@ -299,3 +299,6 @@ def chunk_for(max_steps: int, target: int = 250) -> int:
     divisors = [d for d in range(1, math.isqrt(max_steps) + 1) if max_steps % d == 0]
     divisors += [max_steps // d for d in divisors]
     return min(divisors, key=lambda d: (abs(math.log(d / target)), d))
+
+
+__all__ = ["BatchResult", "MIN_LANES_PER_DEVICE", "chunk_for", "default_lanes", "simulate_batch"]

@@ -1041,10 +1041,11 @@ def rollout(config: SimConfig, throw: Throw, stone: RigidStone, water: WaterPara
     Floating leaves of ``throw``, ``stone`` and ``water`` are cast to JAX's float type (float32, or float64
     under ``jax_enable_x64``), in which the step computes.
 
-    ``throw`` is one throw (every field of shape ``()``; ``jax.vmap`` over a batch) and is not
-    validated here, so that the function can be traced: check concrete throws first
-    (:meth:`Throw.check`, as :func:`jaxskip.simulate` and :func:`jaxskip.simulate_batch` do),
-    and build ``water`` with :func:`jaxskip.water_params`.
+    ``throw`` is one throw (every field of shape ``()``; ``jax.vmap`` over a batch). Its values are
+    checked (:meth:`Throw.check`: a NaN speed or a tilt beyond ±90° is a :class:`ParameterError`) when
+    they are concrete, here and in :data:`rollout_jit`; traced values (under ``jit``, ``vmap`` or
+    ``grad``) cannot be, so check them before tracing, as :func:`jaxskip.simulate` and
+    :func:`jaxskip.simulate_batch` do. Build ``water`` with :func:`jaxskip.water_params`.
 
     ``surface``: the water surface, a pure, JAX-traceable callable ``surface(x, y) -> h`` giving the
     height [m] above the rest level z = 0 at world coordinates ``x, y`` [m] (arrays of any shape; ``h``
@@ -1062,13 +1063,31 @@ def rollout(config: SimConfig, throw: Throw, stone: RigidStone, water: WaterPara
     (True, 'sank')
     """
     _check_rollout_args(config, throw, stone, water)
+    _check_concrete_throw(throw)
     throw, stone, water = _one_float_type(throw, stone, water)
     step = make_step(config, surface)
     (state, tr), recs = _scan(config, step, initial_carry(config, throw, stone), stone, water)
     return state, tr.finish(), (recs if config.record else None)
 
 
-rollout_jit = jax.jit(rollout, static_argnames=("config", "surface"))
+def _check_concrete_throw(throw) -> None:
+    """:meth:`Throw.check` when no field of ``throw`` is traced (a NaN throw came back "diverged", a tilt of
+    3 rad "flipped", in silence); a traced throw passes unchecked."""
+    if isinstance(throw, Throw) and not any(isinstance(getattr(throw, f.name), jax.core.Tracer)
+                                            for f in dataclasses.fields(throw)):
+        throw.check()
+
+
+_rollout_compiled = jax.jit(rollout, static_argnames=("config", "surface"))
+
+
+def rollout_jit(config: SimConfig, throw: Throw, stone: RigidStone, water: WaterParams, surface=flat_surface):
+    _check_rollout_args(config, throw, stone, water)
+    _check_concrete_throw(throw)   # (inside the jitted function the values are traced)
+    return _rollout_compiled(config, throw, stone, water, surface=surface)
+
+
+rollout_jit.lower = _rollout_compiled.lower
 rollout_jit.__doc__ = """:func:`rollout` compiled once per (config, surface); new throws, stones
 of the same size and water constants reuse it (leaves of the same dtype: a Python float or a weakly typed
 scalar compiles apart, see :class:`Throw`). Arguments and returns as :func:`rollout`; ``config`` and

@@ -616,12 +616,27 @@ def make_water_step(grid: WaterGrid, clamp_blocks: tuple = ()):
         start = jnp.clip(lo - (size - (hi - lo + 1)) // 2, 1, n - 1 - size)
         return start, (hi - lo < size) & (lo >= 1) & (hi <= n - 2)
 
+    bound = stable_dt(l, H, g)
+
     def step(state: WaterState, pressure, dt=None) -> WaterState:
         # (shapes are static: checked when traced; a (ny,) pressure broadcast over the rows in silence)
         if jnp.shape(pressure) != grid.shape or jnp.shape(state.height) != grid.shape:
             raise ParameterError(f"pressure and state.height must have the grid's shape {grid.shape}, got "
                                  f"{jnp.shape(pressure)} and {jnp.shape(state.height)}")
-        dt = grid.time_step if dt is None else dt
+        _check_state_dtypes(state)
+        if jnp.iscomplexobj(pressure):
+            raise ParameterError("pressure must be real [Pa per column], got a complex array")
+        # the state's float type throughout (a float64 pressure on a float32 state under x64 made float64
+        # heights: a scan over the step met a raw carry-type error)
+        pressure = jnp.asarray(pressure, dtype=state.height.dtype)
+        if dt is None:
+            dt = grid.time_step
+        elif not isinstance(dt, jax.core.Tracer):   # a traced dt is the caller's to keep in range
+            value = np.asarray(dt)
+            if value.shape != () or value.dtype.kind not in "iuf" or not (0.0 <= float(value) <= bound * (1 + 1e-9)):
+                raise ParameterError(f"dt must be a number in [0, {bound:.6g}] s (the pipe scheme's stability bound "
+                                     f"for spacing {l} m and depth {H} m; split a longer step with "
+                                     f"water_substeps()), got {dt!r}")
         keep = 1.0 / (1.0 + dt * grid.damping)    # implicit linear damping: unconditionally stable
         h = state.height
         head = h + pressure / (grid.rho * g)   # pressure as metres of water
@@ -737,8 +752,27 @@ def _check_state(grid: WaterGrid, state) -> None:
         got = tuple(jnp.shape(getattr(state, name)))
         if got != want:
             raise ParameterError(f"state.{name} must have shape {want} for the grid's shape {grid.shape}, got {got}")
+    _check_state_dtypes(state)
     if not isinstance(state.height, jax.core.Tracer):
         _check_heights("state.height", state.height)
+    for name in ("qx", "qy", "qd", "qa", "time"):   # a NaN flow or clock ran on in silence
+        value = getattr(state, name)
+        if not isinstance(value, jax.core.Tracer) and not bool(np.all(np.isfinite(np.asarray(value)))):
+            raise ParameterError(f"state.{name} must be finite ({'s' if name == 'time' else 'm³/s'}), got a "
+                                 f"non-finite value")
+
+
+_STATE_FIELDS = ("height", "qx", "qy", "qd", "qa", "time")
+
+
+def _check_state_dtypes(state) -> None:
+    """Every array of a :class:`WaterState` in one float type, float32 or float64 (static: checked while
+    tracing too). A float16 flow or integer heights met a raw "scan body ... carry ... must have equal types"
+    error, a float32 height among float64 flows a ``lax.cond`` one."""
+    dtypes = {name: jnp.result_type(getattr(state, name)) for name in _STATE_FIELDS}
+    if len(set(dtypes.values())) != 1 or dtypes["height"] not in (jnp.dtype(jnp.float32), jnp.dtype(jnp.float64)):
+        shown = ", ".join(f"{n} {d.name}" for n, d in dtypes.items())
+        raise ParameterError(f"state's arrays must all be float32 or all float64 (see still_water's dtype), got {shown}")
 
 
 def _check_heights(name: str, height) -> None:
@@ -853,3 +887,7 @@ def deposit(grid: WaterGrid, x, y, value, origin=None, into=None):
         return jax.lax.dynamic_update_slice(a, jax.lax.dynamic_slice(a, corner, (2, 2)) + w[p], corner)
 
     return jax.lax.fori_loop(0, fx.shape[0], add, out)
+
+
+__all__ = ["BOUNDARIES", "CLAMPS", "MAX_COLUMNS", "WaterGrid", "WaterState", "deposit", "height_at", "make_water_step",
+           "placeless", "run_water", "stable_dt", "still_water", "total_volume", "water_substeps"]

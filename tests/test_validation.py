@@ -588,6 +588,35 @@ def test_review_fixes_session_25(index):
         call()
 
 
+def test_rollout_checks_concrete_throws_and_passes_traced_ones():
+    """(2026-12-05, a review) rollout and rollout_jit took a NaN speed (outcome "diverged") or a tilt of 3 rad
+    (outcome "flipped") in silence; a concrete throw is now checked as simulate checks it, a traced one is not
+    (it cannot be), and the checked call gives what the jitted program gives."""
+    import dataclasses
+
+    import jax
+    import jax.numpy as jnp
+    import numpy as np
+
+    from jaxskip import SimConfig, Throw, paper_stone, rigid_stone, rollout, rollout_jit, water_params
+
+    stone, water, config = rigid_stone(paper_stone(), density=2650.0), water_params(), SimConfig(max_steps=400,
+                                                                                                record=False)
+    good = Throw.from_degrees()
+    for field, value, message in (("speed", jnp.nan, r"speed must be .*\(0, 100\] m/s"),
+                                  ("tilt", 3.0, r"tilt must be .*\(-1.5708, 1.5708\)")):
+        bad = dataclasses.replace(good, **{field: jnp.asarray(value)})
+        for run in (rollout, rollout_jit):
+            with pytest.raises(ParameterError, match=message):
+                run(config, bad, stone, water)
+    a = rollout_jit(config, good, stone, water)[0].position
+    b = jax.jit(lambda t: rollout(config, t, stone, water))(good)[0].position
+    c = jax.vmap(lambda t: rollout_jit(config, t, stone, water)[0].position)(
+        Throw.from_degrees(speed=[8.0, 8.0]))
+    np.testing.assert_array_equal(np.asarray(a), np.asarray(b))
+    np.testing.assert_allclose(np.asarray(c[0]), np.asarray(a), rtol=1e-12, atol=1e-12)
+
+
 def test_traced_values_at_checked_constructors_and_batched_stones_in_rollout_are_named():
     """Found by a review of jaxskip inside user JAX code (session 26): a traced c_lift, density or dt was
     refused as "must be a real number, got GradTracer(...)", and a batched stone or water given to rollout

@@ -443,6 +443,45 @@ def test_states_and_points_are_checked_where_they_enter():
         total_volume(g, still_water(WaterGrid(shape=(20, 20), depth=0.05)))
 
 
+def test_flows_clock_dtypes_and_dt_are_checked_too():
+    """(2026-12-05, a review) run_water checked only the heights: a NaN flow filled the grid with NaN and a
+    NaN clock ran on; a float16 flow, integer heights or a float32 height among float64 flows met raw scan /
+    cond type errors; the step took a NaN, negative or unstable dt in silence (NaN heights), and a float64
+    pressure turned a float32 state's heights float64 under x64 (a scan over the step then failed)."""
+    import dataclasses
+
+    import jax.numpy as jnp
+    import numpy as np
+
+    from jaxskip import ParameterError
+    from jaxskip.water import WaterGrid, make_water_step, run_water, stable_dt, still_water
+
+    g = WaterGrid(shape=(8, 8), spacing=0.01, depth=0.05)
+    s = still_water(g)
+    for name, value in (("qx", s.qx.at[0, 0].set(jnp.nan)), ("qa", s.qa.at[1, 1].set(jnp.inf)),
+                        ("time", jnp.array(jnp.nan))):
+        with pytest.raises(ParameterError, match=f"state.{name} must be finite"):
+            run_water(g, dataclasses.replace(s, **{name: value}), 3)
+    for name, value, shown in (("qx", s.qx.astype(jnp.float16), "qx float16"),
+                               ("height", jnp.ones((8, 8), jnp.int32), "height int32"),
+                               ("height", s.height.astype(jnp.float32), "height float32")):
+        with pytest.raises(ParameterError, match=f"state's arrays must all be float32 or all float64.*{shown}"):
+            run_water(g, dataclasses.replace(s, **{name: value}), 3)
+    step = make_water_step(g)
+    bound = stable_dt(g.spacing, g.depth)
+    for dt in (float("nan"), -1e-4, 1.01 * bound, np.ones(2) * 1e-4, "0.001"):
+        with pytest.raises(ParameterError, match=r"dt must be a number in \[0, 0.0123655\] s"):
+            step(s, jnp.zeros((8, 8)), dt)
+    with pytest.raises(ParameterError, match="state's arrays must all be float32"):
+        step(dataclasses.replace(s, qy=s.qy.astype(jnp.float16)), jnp.zeros((8, 8)))
+    # at the bound and traced dts still run; the pressure takes the state's float type
+    assert bool(jnp.all(jnp.isfinite(step(s, jnp.zeros((8, 8)), bound).height)))
+    s32 = still_water(g, dtype=jnp.float32)
+    push = jnp.zeros((8, 8), jnp.float64).at[4, 4].set(100.0)
+    out = jax.lax.scan(lambda c, _: (step(c, push, jnp.float32(1e-3)), None), s32, None, length=3)[0]
+    assert out.height.dtype == jnp.float32 and float(out.height[4, 4]) < g.depth
+
+
 def test_clamp_blocks_take_numpy_integers_and_pressures_must_be_real():
     """(session 32, a review) WaterGrid.shape takes NumPy integers but clamp_blocks refused them; a complex
     pressure was cast with only a ComplexWarning, its imaginary part dropped."""
