@@ -38,7 +38,7 @@ from ._files import writing
 from .api import ThrowResult
 from .body import RigidStone
 from .mesh import TriMesh, obj_text, write_obj
-from .simulate import _momentum_from_spin, free_rotation
+from .simulate import _momentum_from_spin, _one_float_type, free_rotation
 
 #: Highest frame rate :func:`frames` accepts [1/s].
 MAX_FPS = 10_000.0
@@ -91,13 +91,16 @@ def frames(result, fps: float = 60.0) -> dict:
     # Padded to a power of two (at least 64 frames) so that throws of other lengths reuse one program.
     pad = max(64, 1 << (m - 1).bit_length())
     j, tau = np.concatenate([i, np.full(pad - m, i[-1])]), np.concatenate([times - t[i], np.zeros(pad - m)])
-    dtype = np.asarray(traj["position"]).dtype
+    # JAX's float type now (a result simulated in float32 before jax_enable_x64 was switched on met a raw
+    # "lax.mul requires arguments to have the same dtypes" error: its stone was float32, the constants float64)
+    dtype = jax.dtypes.canonicalize_dtype(np.float64)
+    rigid = _one_float_type(result.rigid)[0]
     pick = lambda k: np.asarray(traj[k])[j]  # noqa: E731
     # the simulator holds q in fixed attitude: so do the frames (its recorded spin is never applied)
     spin = np.zeros_like(pick("angular_velocity")) if result.config.attitude == "fixed" else pick("angular_velocity")
     x, v, q = _carry(*(jnp.asarray(a, dtype=dtype) for a in (pick("position"), pick("velocity"),
                                                              pick("orientation"), spin, tau)),
-                     result.rigid, jnp.asarray(result.water.gravity, dtype))
+                     rigid, jnp.asarray(result.water.gravity, dtype))
     return {"time": times, "position": np.asarray(x)[:m], "orientation": np.asarray(q)[:m],
             "velocity": np.asarray(v)[:m], "in_water": np.asarray(traj["wetted_area"])[i] > 0.0}
 

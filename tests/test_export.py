@@ -205,3 +205,25 @@ def test_a_stone_file_jaxskip_did_not_write_is_never_overwritten(default_throw, 
     with pytest.raises(ParameterError, match=r"holds the stone of another throw, written with the trajectory 'u.csv'"):
         write_trajectory(other, tmp_path / "u.json")
     assert "jaxskip trajectory u.csv:" in (tmp_path / "u.stone.obj").read_text().splitlines()[0]
+
+
+def test_frames_of_a_float32_result_after_x64_is_switched_on():
+    """(2026-12-06, a review) a result simulated in float32 and exported once jax_enable_x64 was on (a
+    notebook that switches x64 on half-way) met a raw "lax.mul requires arguments to have the same
+    dtypes" error: its stone was float32, the step's constants float64. The frames now compute in JAX's
+    float type of the moment and agree with the float32 ones to float32's rounding."""
+    import jax
+
+    config = SimConfig(duration=0.2)
+    jax.config.update("jax_enable_x64", False)
+    try:
+        result = simulate(config=config)
+        f32 = frames(result, fps=100.0)
+    finally:
+        jax.config.update("jax_enable_x64", True)
+    assert result.trajectory["position"].dtype == np.float32
+    f64 = frames(result, fps=100.0)
+    assert f64["position"].dtype == np.float64
+    np.testing.assert_array_equal(f64["time"], f32["time"])
+    np.testing.assert_allclose(f64["position"], f32["position"], rtol=0, atol=1e-5)
+    np.testing.assert_allclose(f64["orientation"], f32["orientation"], rtol=0, atol=1e-5)
