@@ -479,11 +479,26 @@ def _tilt_from_matrix(R):
     return jnp.arctan2(h, R[2, 2])
 
 
+_HINTS = {SimConfig: "jaxskip.SimConfig", Throw: "jaxskip.Throw",
+          RigidStone: "jaxskip.RigidStone (see jaxskip.rigid_stone)",
+          WaterParams: "jaxskip.WaterParams (see jaxskip.water_params)"}
+
+
+def _require(call: str, **named) -> None:
+    """Each ``name=(value, cls)`` must be a ``cls`` (static: checked while tracing too), else a
+    :class:`ParameterError` naming ``call`` and the argument (arguments in another order met an
+    AttributeError deep inside)."""
+    for name, (value, cls) in named.items():
+        if not isinstance(value, cls):
+            raise ParameterError(f"{call}: {name} must be a {_HINTS[cls]}, got {type(value).__name__}")
+
+
 def initial_state(throw: Throw, stone: RigidStone) -> StoneState:
     """State at release: lowest point ``throw.height`` above flat water, velocity and spin from the throw.
 
     ``throw``: one throw (shape ``()``; ``vmap`` for batches), already checked (:meth:`Throw.check`:
-    this pure function does not validate, so that it can be traced)."""
+    this pure function does not validate its values, so that it can be traced; its arguments' types are)."""
+    _require("initial_state(throw, stone)", throw=(throw, Throw), stone=(stone, RigidStone))
     q = attitude(throw.tilt, throw.heading)
     R = quat.to_matrix(q)
     lowest = jnp.min(quat.rotate(R, stone.triangles)[..., 2])
@@ -501,6 +516,8 @@ def initial_carry(config: SimConfig, throw: Throw, stone: RigidStone) -> tuple[S
     (:func:`initial_state`) and an empty tracker (alive, no contact yet, ``config.max_contacts`` rows).
     Pure; one throw (``vmap`` for batches). Floating leaves are cast to JAX's float type first, as
     :func:`rollout` casts them (the step casts its ``stone`` and ``water`` too)."""
+    _require("initial_carry(config, throw, stone)", config=(config, SimConfig), throw=(throw, Throw),
+             stone=(stone, RigidStone))
     throw, stone = _one_float_type(throw, stone)
     state = initial_state(throw, stone)
     return state, _new_tracker(config.max_contacts, state.position.dtype)
@@ -829,6 +846,12 @@ def make_step(config: SimConfig, surface=flat_surface, push: bool = False):
     per-triangle water forces (F, 3) [N] on the stone at the start of the step and their
     immersed centroids (F, 3) [m] (zeros once out of play), for the coupled water.
     """
+    _require("make_step(config, surface, push)", config=(config, SimConfig))
+    if not callable(surface):
+        raise ParameterError(f"make_step: surface must be a callable surface(x, y) -> height [m], got "
+                             f"{type(surface).__name__}")
+    if not isinstance(push, (bool, np.bool_)):
+        raise ParameterError(f"make_step: push must be True or False, got {push!r}")
 
     def live_step(carry, stone: RigidStone, water: WaterParams):
         state, tr = carry
@@ -906,6 +929,7 @@ def make_step(config: SimConfig, surface=flat_surface, push: bool = False):
         return (state, dataclasses.replace(tr, log=None)), (row_idx, tr.log[row_idx]), rec, pushed
 
     def step(carry, stone: RigidStone, water: WaterParams):
+        _require("step(carry, stone, water)", stone=(stone, RigidStone), water=(water, WaterParams))
         stone, water = _one_float_type(stone, water)   # (a float32 stone under x64: the step computes in one type)
         # Out of play: skip the work (a real branch for one throw; under vmap it becomes a select
         # of both branches' outputs). The (K, 10) contact log is not an output of the branch: each
@@ -997,13 +1021,8 @@ def _scan(config: SimConfig, step, carry, stone, water):
 def _check_rollout_args(config, throw, stone, water) -> None:
     """Types, and one throw (not a batch), checked while tracing (values cannot be): arguments in another
     order or a batch met an AttributeError or a broadcasting error deep inside the step."""
-    for name, value, cls, hint in (("config", config, SimConfig, "jaxskip.SimConfig"),
-                                   ("throw", throw, Throw, "jaxskip.Throw"),
-                                   ("stone", stone, RigidStone, "jaxskip.RigidStone (see jaxskip.rigid_stone)"),
-                                   ("water", water, WaterParams, "jaxskip.WaterParams (see jaxskip.water_params)")):
-        if not isinstance(value, cls):
-            raise ParameterError(f"rollout(config, throw, stone, water): {name} must be a {hint}, got "
-                                 f"{type(value).__name__}")
+    _require("rollout(config, throw, stone, water)", config=(config, SimConfig), throw=(throw, Throw),
+             stone=(stone, RigidStone), water=(water, WaterParams))
     shapes = {f.name: tuple(np.shape(getattr(throw, f.name))) for f in dataclasses.fields(throw)}
     if any(shape != () for shape in shapes.values()):
         raise ParameterError(f"rollout takes one throw (every field of shape ()), got shapes {shapes}: jax.vmap "

@@ -617,6 +617,32 @@ def test_rollout_checks_concrete_throws_and_passes_traced_ones():
     np.testing.assert_allclose(np.asarray(c[0]), np.asarray(a), rtol=1e-12, atol=1e-12)
 
 
+def test_the_step_builders_name_misplaced_arguments():
+    """(2026-12-06, a review) initial_state, initial_carry and the step of make_step met AttributeErrors
+    deep inside with arguments in another order ("'RigidStone' object has no attribute 'tilt'"), and
+    make_step took a non-callable surface or an integer push in silence (failing later, inside the scan)."""
+    from jaxskip import SimConfig, Throw, initial_carry, initial_state, make_step, paper_stone, rigid_stone, water_params
+
+    stone, water, config, throw = rigid_stone(paper_stone(), density=2650.0), water_params(), SimConfig(), \
+        Throw.from_degrees()
+    cases = [
+        (lambda: initial_state(stone, throw), r"initial_state\(throw, stone\): throw must be a jaxskip.Throw, got RigidStone"),
+        (lambda: initial_state(throw, "paper"), r"stone must be a jaxskip.RigidStone \(see jaxskip.rigid_stone\), got str"),
+        (lambda: initial_carry(throw, config, stone), r"initial_carry\(config, throw, stone\): config must be a "
+                                                      r"jaxskip.SimConfig, got Throw"),
+        (lambda: make_step("free"), "config must be a jaxskip.SimConfig, got str"),
+        (lambda: make_step(config, 0.0), r"surface must be a callable surface\(x, y\) -> height \[m\], got float"),
+        (lambda: make_step(config, push=1), "push must be True or False, got 1"),
+        (lambda: make_step(config)(initial_carry(config, throw, stone), water, stone),
+         r"step\(carry, stone, water\): stone must be a jaxskip.RigidStone .*got WaterParams"),
+    ]
+    for call, message in cases:
+        with pytest.raises(ParameterError, match=message):
+            call()
+    carry, _ = make_step(config)(initial_carry(config, throw, stone), stone, water)   # the right order runs
+    assert float(carry[0].time) > 0.0
+
+
 def test_traced_values_at_checked_constructors_and_batched_stones_in_rollout_are_named():
     """Found by a review of jaxskip inside user JAX code (session 26): a traced c_lift, density or dt was
     refused as "must be a real number, got GradTracer(...)", and a batched stone or water given to rollout
