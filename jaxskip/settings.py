@@ -28,16 +28,14 @@ def simulation(*, stone, mass, density, force_law, c_lift, c_friction, velocity,
     """
     from . import ForceModel, SimConfig, water_params
     from .api import resolve_stone
-    from ._checks import check_range, check_real
-    from .simulate import MAX_DT, MAX_STEPS, steps_for
+    from ._checks import check_range
+    from .simulate import MAX_DT, MAX_STEPS, check_duration, steps_for
 
     if isinstance(stone, (str, os.PathLike)) and os.path.isdir(stone):
         raise ParameterError(f"stone {str(stone)!r} is a directory, not a stone name or an .obj file")
     if max_steps is None:
         dt = check_range("dt", dt, 0.0, MAX_DT, unit="s", low_open=True)  # (the message SimConfig would give)
-        duration = check_real("duration", duration, valid=f">= dt ({dt:g} s)")
-        if duration < dt:   # (said "> 0 s" for 0 and -1, where the rule is >= dt)
-            raise ParameterError(f"duration must be >= dt ({dt:g} s), got {duration:g} s")
+        duration = check_duration(duration, dt)   # (said "> 0 s" for 0 and -1, where the rule is >= dt)
         max_steps = steps_for(duration, dt)
         if max_steps > MAX_STEPS:  # (named after what the user gave, not the derived step budget)
             raise ParameterError(f"duration ({duration:g} s) needs {max_steps} steps of dt = {dt:g} s, more than the "

@@ -158,10 +158,7 @@ class SimConfig:
         # (checked values stored as plain floats: a NumPy scalar or 0-d array would not hash)
         set_ = functools.partial(object.__setattr__, self)
         set_("dt", check_range("dt", self.dt, 0.0, MAX_DT, unit="s", low_open=True))
-        set_("duration", check_real("duration", self.duration, valid="> 0 s"))   # (and >= dt, below)
-        if self.duration < self.dt:
-            raise ParameterError(f"duration must be >= dt ({self.dt:g} s), got {self.duration:g} s (the first step "
-                                 "would already overrun it)")
+        set_("duration", check_duration(self.duration, self.dt))
         set_("max_steps", check_int("max_steps", self.max_steps, minimum=1, maximum=MAX_STEPS))
         check_choice("integrator", self.integrator, INTEGRATORS)
         check_choice("attitude", self.attitude, ATTITUDES)
@@ -477,6 +474,16 @@ def _tilt_from_matrix(R):
     pos = h2 > 0.0
     h = jnp.where(pos, jnp.sqrt(jnp.where(pos, h2, 1.0)), 0.0)
     return jnp.arctan2(h, R[2, 2])
+
+
+def check_duration(duration, dt: float) -> float:
+    """``duration`` [s] as a float: finite and at least one step of ``dt`` [s] (a checked float), else a
+    :class:`ParameterError`. :class:`SimConfig` and the CLI (which derives ``max_steps`` from it first) share it."""
+    duration = check_real("duration", duration, valid="> 0 s")
+    if duration < dt:
+        raise ParameterError(f"duration must be >= dt ({dt:g} s), got {duration:g} s (the first step "
+                             "would already overrun it)")
+    return duration
 
 
 _HINTS = {SimConfig: "jaxskip.SimConfig", Throw: "jaxskip.Throw",
