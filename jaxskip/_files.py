@@ -44,6 +44,20 @@ def writing(what):
         raise OSError(exc.errno, f"cannot write {name}: {exc.strerror or exc}") from exc
 
 
+def check_file_path(name: str, path) -> None:
+    """Refuse, before anything is drawn or computed, an output path (``str`` or ``os.PathLike``) that names a
+    folder or lies in a folder that does not exist: the error came from ``savefig`` or ``Image.save`` after
+    every frame had been drawn. ``None`` and file objects pass. Raises :class:`ParameterError` naming ``name``."""
+    if path is None or not isinstance(path, (str, os.PathLike)):
+        return
+    text = os.fsdecode(os.fspath(path))
+    folder = os.path.dirname(text) or "."
+    if not os.path.isdir(folder):
+        raise ParameterError(f"{name}: the folder {folder!r} of {text!r} does not exist")
+    if os.path.isdir(text):
+        raise ParameterError(f"{name} must name a file, got the folder {text!r}")
+
+
 def check_picture_path(name: str, path) -> None:
     """Refuse, before anything is drawn, a picture path (``str`` or ``os.PathLike``) without a suffix that
     matplotlib writes: ``"h2"`` was saved as ``h2.png``, a file the caller never named, and ``"h2.tx"``
@@ -59,3 +73,4 @@ def check_picture_path(name: str, path) -> None:
         raise ParameterError(f"{name} must end in a picture format matplotlib writes ({', '.join(sorted(formats))}"
                              f"; the CLI takes .png, .pdf and .svg), got {text!r}"
                              + (" (no suffix: matplotlib would write another file name, with .png)" if not ext else ""))
+    check_file_path(name, path)

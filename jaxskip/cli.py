@@ -248,7 +248,7 @@ def build_parser(argv=None) -> argparse.ArgumentParser:
     add_common(t, plot="write the side view (PNG/PDF/SVG)")
     t.add_argument("--water", choices=("flat", "field"), default="flat",
                    help="flat water (default, the validated model) or a two-way coupled height field in a "
-                        "window that follows the stone (64x64 columns of 1 cm, depth 2 cm)")
+                        "window that follows the stone (64x64 columns of 1 cm, depth 2 cm; stones up to 0.64 m across)")
     t.add_argument("--water-plot", metavar="PATH", default=None,
                    help="(--water field) write the ripples: shaded top view and 3-D view (PNG/PDF/SVG)")
     t.add_argument("--animate", metavar="PATH.gif", default=None,
@@ -385,11 +385,13 @@ def _throw(args) -> int:
         from .coupled import default_window
 
         field = default_window()
-    # With a field, snapshot the water every 40 steps (10 ms in contact) for the pictures.
-    chunk = 40 if (args.animate or args.water_plot) else 1000
+        span = min(field.shape) * field.spacing
+        if 2.0 * float(stone.radius) > span:   # (simulate's message named its water_field argument)
+            raise ParameterError(f"--water field: the stone is {2.0 * float(stone.radius):.3g} m across, wider than the "
+                                 f"field's window ({span:g} m); use --water flat or a stone at most {span:g} m across")
     with warnings.catch_warnings():  # (a diverged throw is this command's error below, not also a warning)
         warnings.simplefilter("ignore", DivergedWarning)
-        result = simulate(throw, stone, water=water, config=config, progress=progress, water_field=field, chunk=chunk)
+        result = simulate(throw, stone, water=water, config=config, progress=progress, water_field=field)
     result = dataclasses.replace(result, stone_name=_stone_label(values["stone"]))
     if result.outcome == "diverged":
         # (a picture or a file of a failed integration would be read as a result)

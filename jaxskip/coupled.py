@@ -45,8 +45,8 @@ water step.
 
 The default window (:func:`default_window`): 64 × 64 columns of 1 cm
 (0.64 m, ~6 stone diameters), effective depth 2 cm — so that
-:math:`\sqrt{gH} = 0.44` m/s, the deep-water phase speed of ripples one stone
-wide — a sponge border of 8 columns and the smooth clamp (differentiable).
+:math:`\sqrt{gH} = 0.44` m/s, near the deep-water phase speed :math:`\sqrt{g\lambda/2\pi}` of
+ripples one stone wide (0.40 m/s at :math:`\lambda` = 0.1 m) — a sponge border of 8 columns and the smooth clamp (differentiable).
 """
 
 from __future__ import annotations
@@ -182,6 +182,42 @@ def coupled_substeps(config: SimConfig, grid: WaterGrid, water_dt: float | None 
     water_dt = default_water_dt(grid) if water_dt is None else check_range(
         "water_dt", water_dt, 0.0, grid.time_step, unit="s", low_open=True)
     return water_substeps(grid, max(config.dt, water_dt + 0.5 * min(config.dt, water_dt)))
+
+
+def coupled_interval(config: SimConfig, grid: WaterGrid, water_dt: float | None = None) -> float:
+    """The stone time [s] between two advances of the coupled water while the stone is in contact
+    (:func:`make_coupled_step`): the first whole number of stone steps ``k * config.dt`` that reaches
+    ``water_dt`` to within half a step, ``k = max(1, ceil(water_dt / dt - 1/2))`` — ``water_dt`` itself
+    when it is a whole number of steps (1 ms with the defaults), ``config.dt`` when that is longer.
+    Each advance takes :func:`coupled_substeps` equal water steps. ``water_dt`` as in
+    :func:`make_coupled_step`.
+
+    >>> from jaxskip import SimConfig
+    >>> coupled_interval(SimConfig(), default_window()), coupled_interval(SimConfig(dt=0.005), default_window())
+    (0.001, 0.005)
+    """
+    _check_config(config)
+    _check_grid(grid)
+    water_dt = default_water_dt(grid) if water_dt is None else check_range(
+        "water_dt", water_dt, 0.0, grid.time_step, unit="s", low_open=True)
+    k = max(1, math.ceil(water_dt / config.dt - 0.5 - 1e-9))
+    return k * config.dt
+
+
+def check_window_fits(grid: WaterGrid, stone: RigidStone, name: str = "grid") -> None:
+    """The window must span at least the stone's diameter (``2 * stone.radius``) along each side: under a
+    narrower one the push beyond its edge is dropped and the surface read off its edge columns, an
+    answer neither flat nor coupled. A traced radius (inside ``jit``) passes unchecked. Raises
+    :class:`~jaxskip.ParameterError` naming the window as ``name``."""
+    radius = stone.radius
+    if isinstance(radius, jax.core.Tracer):
+        return
+    span = min(grid.shape) * grid.spacing
+    if span < 2.0 * float(radius):
+        raise ParameterError(f"{name} must be at least as wide as the stone: its window spans {span:g} m "
+                             f"({min(grid.shape)} columns of {grid.spacing:g} m), the stone "
+                             f"{2.0 * float(radius):.3g} m; take more columns (jaxskip.coupled."
+                             "default_window() spans 0.64 m)")
 
 
 def make_coupled_step(config: SimConfig, grid: WaterGrid, water_dt: float | None = None, two_way: bool = True,
@@ -352,8 +388,10 @@ def rollout_coupled(config: SimConfig, grid: WaterGrid, throw: Throw, stone: Rig
     """
     _check_config(config)
     _check_grid(grid)
-    _check_rollout_args(config, throw, stone, water)   # (a batched throw met a raw broadcasting error)
+    _check_rollout_args(config, throw, stone, water, name="rollout_coupled",   # (a batched throw met a raw
+                        signature="(config, grid, throw, stone, water)")     # broadcasting error)
     check_shared_constants(grid, water)
+    check_window_fits(grid, stone)
     state, tracker = initial_carry(config, throw, stone)
     carry = (state, tracker, initial_field(grid, state.position))
     step = make_coupled_step(config, grid, water_dt, two_way)
@@ -361,4 +399,4 @@ def rollout_coupled(config: SimConfig, grid: WaterGrid, throw: Throw, stone: Rig
     return state, tr.finish(), (recs if config.record else None), field
 
 
-__all__ = ["Field", "advance_field", "check_shared_constants", "coupled_substeps", "default_water_dt", "default_window", "initial_field", "make_coupled_step", "recentre", "rollout_coupled"]
+__all__ = ["Field", "advance_field", "check_shared_constants", "check_window_fits", "coupled_interval", "coupled_substeps", "default_water_dt", "default_window", "initial_field", "make_coupled_step", "recentre", "rollout_coupled"]

@@ -170,6 +170,15 @@ def _drop_owner(text: str) -> str:
     return first.split(":", 1)[-1] + "\n" + rest
 
 
+def _water_words(result) -> str:
+    """The water of ``result``'s throw, for the ``about`` text: flat, or the height field it ran on."""
+    if not result.field:
+        return "water at z = 0"
+    nx, ny = result.field["shape"]
+    return (f"water at rest at z = 0; the throw ran on a moving height field ({nx}x{ny} columns of "
+            f"{result.field['spacing']:g} m following the stone), not written here")
+
+
 def write_trajectory(result, path, fps: float = 60.0) -> str:
     """Write :func:`frames` of ``result`` to ``path`` and the stone beside it; return the stone's path.
 
@@ -185,7 +194,9 @@ def write_trajectory(result, path, fps: float = 60.0) -> str:
     * ``.json``: one object ``{"about": text (the throw, as the OBJ's first line), "fps": fps, "units":
       {key: unit}, "stone_obj": the OBJ's file name, "frames": {key: list, one value per frame}}`` with
       the keys ``t, x, y, z, qw, qx, qy, qz, vx, vy, vz, in_water`` (not :data:`COLUMNS`: no units in
-      the names; ``units`` gives them, ``in_water`` as true/false).
+      the names; ``units`` gives them, ``in_water`` as true/false), and, for a throw on a height field
+      (``simulate(water_field=...)``), ``"water"``: the grid as :attr:`jaxskip.ThrowResult.field` gives it,
+      without its snapshots (the surface itself is not written; the ``about`` text says so).
 
     The stone is written in the body frame those quaternions rotate (:func:`body_mesh`) as an OBJ at
     :func:`stone_path` (``PATH`` with :data:`STONE_SUFFIX`: ``throw.csv`` -> ``throw.stone.obj``), its first
@@ -224,7 +235,7 @@ def write_trajectory(result, path, fps: float = 60.0) -> str:
              f"in its body frame (centre of mass, principal axes); speed {float(t.speed):g} m/s, tilt "
              f"{math.degrees(float(t.tilt)):g} deg, attack {math.degrees(float(t.attack)):g} deg, spin "
              f"{float(t.spin) / (2 * math.pi):g} rev/s; {result.bounces} bounces, {result.outcome}; "
-             f"{fps:g} frames/s; world frame z up, water at z = 0")
+             f"{fps:g} frames/s; world frame z up, " + _water_words(result))
     stone = dataclasses.replace(body_mesh(result.rigid), name=about)
     if owner is not None and owner != os.path.basename(path):
         # the stone of another trajectory (throw.json's, now writing throw.csv): replaced only if it is the
@@ -247,6 +258,7 @@ def write_trajectory(result, path, fps: float = 60.0) -> str:
     out = {"about": about, "fps": fps, "units": dict(zip(keys + ("in_water",), ("s", "m", "m", "m", "-", "-", "-",
                                                                                 "-", "m/s", "m/s", "m/s", "bool"))),
            "stone_obj": os.path.basename(obj),
+           **({"water": {k: v for k, v in result.field.items() if k != "frames"}} if result.field else {}),
            "frames": {**{k: table[:, c].tolist() for c, k in enumerate(keys)},
                       "in_water": f["in_water"].tolist()}}
     with writing(path), open(path, "w") as fh:

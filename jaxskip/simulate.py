@@ -1025,23 +1025,25 @@ def _scan(config: SimConfig, step, carry, stone, water):
     return carry, (unpack(recs) if config.record else None)
 
 
-def _check_rollout_args(config, throw, stone, water) -> None:
+def _check_rollout_args(config, throw, stone, water, name: str = "rollout",
+                        signature: str = "(config, throw, stone, water)") -> None:
     """Types, and one throw (not a batch), checked while tracing (values cannot be): arguments in another
-    order or a batch met an AttributeError or a broadcasting error deep inside the step."""
-    _require("rollout(config, throw, stone, water)", config=(config, SimConfig), throw=(throw, Throw),
+    order or a batch met an AttributeError or a broadcasting error deep inside the step. ``name`` and
+    ``signature``: the function the messages name."""
+    _require(name + signature, config=(config, SimConfig), throw=(throw, Throw),
              stone=(stone, RigidStone), water=(water, WaterParams))
     shapes = {f.name: tuple(np.shape(getattr(throw, f.name))) for f in dataclasses.fields(throw)}
     if any(shape != () for shape in shapes.values()):
-        raise ParameterError(f"rollout takes one throw (every field of shape ()), got shapes {shapes}: jax.vmap "
+        raise ParameterError(f"{name} takes one throw (every field of shape ()), got shapes {shapes}: jax.vmap "
                              "it over a batch, or use jaxskip.simulate_batch")
     # a batched stone or water (a forgotten in_axes) met a broadcasting error deep inside the step
     water_shapes = {f.name: tuple(np.shape(getattr(water, f.name))) for f in dataclasses.fields(water)}
     if any(shape != () for shape in water_shapes.values()):
-        raise ParameterError(f"rollout takes one water (every WaterParams field of shape ()), got shapes "
+        raise ParameterError(f"{name} takes one water (every WaterParams field of shape ()), got shapes "
                              f"{water_shapes}: jax.vmap over a batch of them")
     tri = tuple(np.shape(stone.triangles))
     if len(tri) != 3 or tri[1:] != (3, 3) or np.shape(stone.mass) != ():
-        raise ParameterError(f"rollout takes one stone (triangles (F, 3, 3), mass ()), got triangles {tri} and mass "
+        raise ParameterError(f"{name} takes one stone (triangles (F, 3, 3), mass ()), got triangles {tri} and mass "
                              f"{tuple(np.shape(stone.mass))}: jax.vmap over a batch of stones")
 
 

@@ -166,7 +166,7 @@ class WaterGrid:
     depth: float = 0.1
     """Rest depth :math:`H` [m], in [1e-5, 1e4]: waves travel at :math:`\\sqrt{gH}`."""
     origin: tuple[float, float] = (0.0, 0.0)
-    """Centre ``(x, y)`` [m] of column ``(0, 0)``."""
+    """Centre ``(x, y)`` [m] of column ``(0, 0)`` (a list of two is stored as a tuple)."""
     gravity: float = 9.81
     """Gravitational acceleration g [m/s²], in [0.01, 100]."""
     rho: float = 1000.0
@@ -208,7 +208,7 @@ class WaterGrid:
         put = lambda name, v: object.__setattr__(self, name, v)  # noqa: E731
         put("spacing", check_range("spacing", self.spacing, *SPACING_RANGE, unit="m"))
         put("depth", check_range("depth", self.depth, *DEPTH_RANGE, unit="m"))
-        if not (isinstance(self.origin, tuple) and len(self.origin) == 2):
+        if not (isinstance(self.origin, (tuple, list)) and len(self.origin) == 2):   # (stored as a tuple: hashable)
             raise ParameterError(f"origin must be a tuple (x, y) in m, got {self.origin!r}")
         put("origin", tuple(check_real(name, v, unit="m") for name, v in zip(("origin[0]", "origin[1]"), self.origin)))
         put("gravity", check_range("gravity", self.gravity, *GRAVITY_RANGE, unit="m/s^2"))
@@ -566,8 +566,9 @@ def make_water_step(grid: WaterGrid, clamp_blocks: tuple = ()):
     ``pressure``: external pressure on each column [Pa], shape ``(nx, ny)``
     (e.g. from the stone), added to the hydrostatic :math:`\\rho g h`. One call
     advances ``dt`` seconds (a scalar, may be traced; default ``grid.time_step``).
-    The caller keeps ``dt`` within :func:`stable_dt` (the coupled rollout does).
-    Jit-, vmap- and grad-able.
+    A concrete ``dt`` outside [0, :func:`stable_dt`] and a concrete non-finite pressure are refused
+    (:class:`~jaxskip.ParameterError`); traced values are the caller's to keep in range (the coupled
+    rollout does). Jit-, vmap- and grad-able.
 
     ``clamp_blocks = ((bx, by), ...)`` (columns, static, smallest first): the
     clamp bites only where a column can run short (under and behind a stone).
@@ -619,6 +620,8 @@ def make_water_step(grid: WaterGrid, clamp_blocks: tuple = ()):
     bound = stable_dt(l, H, g)
 
     def step(state: WaterState, pressure, dt=None) -> WaterState:
+        if not isinstance(state, WaterState):   # (None met a raw AttributeError)
+            raise ParameterError(f"state must be a jaxskip.WaterState (see still_water), got {type(state).__name__}")
         # (shapes are static: checked when traced; a (ny,) pressure broadcast over the rows in silence)
         if jnp.shape(pressure) != grid.shape or jnp.shape(state.height) != grid.shape:
             raise ParameterError(f"pressure and state.height must have the grid's shape {grid.shape}, got "
@@ -626,6 +629,8 @@ def make_water_step(grid: WaterGrid, clamp_blocks: tuple = ()):
         _check_state_dtypes(state)
         if jnp.iscomplexobj(pressure):
             raise ParameterError("pressure must be real [Pa per column], got a complex array")
+        if not isinstance(pressure, jax.core.Tracer) and not bool(np.all(np.isfinite(np.asarray(pressure)))):
+            raise ParameterError("pressure must be finite in every column [Pa]")   # (NaN heights followed in silence)
         # the state's float type throughout (a float64 pressure on a float32 state under x64 made float64
         # heights: a scan over the step met a raw carry-type error)
         pressure = jnp.asarray(pressure, dtype=state.height.dtype)

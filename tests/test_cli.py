@@ -554,3 +554,15 @@ def test_a_throw_cut_off_by_duration_says_so(capsys):
     assert "note: the run reached --duration (0.01 s) with the stone still in play" in out
     assert main(["throw"]) == 0
     assert "note: the run reached" not in capsys.readouterr().out
+
+
+def test_a_stone_wider_than_the_field_window_is_refused_in_the_clis_words(tmp_path, capsys):
+    """(2026-12-06, a review) --water field with a 0.8 m disk exited 2 with simulate's message, naming its
+    water_field argument and jaxskip.coupled.default_window(), which the CLI user cannot change."""
+    from jaxskip import disk, write_obj
+
+    write_obj(tmp_path / "big.obj", disk(0.4, 0.02))
+    assert main(["throw", "--water", "field", "--stone", str(tmp_path / "big.obj")]) == 2
+    err = capsys.readouterr().err
+    assert ("--water field: the stone is 0.8 m across, wider than the field's window (0.64 m); use --water flat or "
+            "a stone at most 0.64 m across") in err and "water_field" not in err and "Traceback" not in err

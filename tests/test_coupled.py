@@ -266,8 +266,9 @@ def test_a_window_narrower_than_the_stone_is_refused():
 
 
 def test_the_reported_water_step_says_its_substeps():
-    """(session 32, a review) with a grid step of 0.4 ms the coupling advances every 0.4 ms in two substeps
-    (0.5 ms pending after two stone steps of 0.25 ms), but reported only time_step 0.4 ms."""
+    """(session 32, a review) with a grid step of 0.4 ms the coupling advances in two substeps (0.5 ms pending
+    after two stone steps of 0.25 ms), but reported only time_step 0.4 ms. (2026-12-06, a review) it advances
+    every 0.5 ms, the interval now reported (0.4 ms, the water_dt asked for, was)."""
     from jaxskip import SimConfig, simulate
     from jaxskip.coupled import coupled_substeps, default_window
     from jaxskip.water import WaterGrid
@@ -275,7 +276,7 @@ def test_the_reported_water_step_says_its_substeps():
     fine = WaterGrid(shape=(16, 16), spacing=0.01, depth=0.02, dt=4e-4)
     assert coupled_substeps(SimConfig(), fine) == 2 and coupled_substeps(SimConfig(), default_window()) == 1
     r = simulate(config=SimConfig(duration=0.01), water_field=fine)
-    assert (r.field["time_step"], r.field["substeps"]) == (4e-4, 2)
+    assert (r.field["time_step"], r.field["substeps"]) == (5e-4, 2)
 
 
 def test_rollout_coupled_refuses_a_batched_throw(paper, water):
@@ -285,6 +286,53 @@ def test_rollout_coupled_refuses_a_batched_throw(paper, water):
     from jaxskip import ParameterError, SimConfig, Throw
     from jaxskip.coupled import default_window, rollout_coupled
 
-    with pytest.raises(ParameterError, match="rollout takes one throw"):
+    with pytest.raises(ParameterError, match="rollout_coupled takes one throw"):
         rollout_coupled(SimConfig(max_steps=10), default_window(), Throw.from_degrees(speed=np.array([6.0, 8.0])),
                         paper, water)
+
+
+@pytest.mark.parametrize("dt, steps", [(2.5e-4, 4), (3e-4, 3), (3.5e-4, 3), (5e-3, 1)])
+def test_the_reported_water_interval_is_the_one_stepped(paper, water, dt, steps):
+    """(2026-12-06, a review) with --dt 5 ms the CLI and ThrowResult.field reported a water step of 1 ms (the
+    water_dt asked for) while the water advanced every 5 ms. coupled_interval is the stone time between
+    advances, counted here step by step."""
+    from jaxskip.coupled import coupled_interval
+    from jaxskip.simulate import _new_tracker, initial_state
+
+    config = SimConfig(record=False, dt=dt, flight="step", max_steps=40, duration=10.0)
+    assert coupled_interval(config, SMALL) == pytest.approx(steps * dt, rel=1e-12)
+    step = make_coupled_step(config, SMALL)
+    s0 = initial_state(Throw.from_degrees(height=0.5), paper)
+    carry = (s0, _new_tracker(config.max_contacts, s0.position.dtype), initial_field(SMALL, s0.position))
+
+    def body(c, _):
+        c1, _ = step(c, paper, water)
+        return c1, c1[2].water.time != c[2].water.time
+
+    last, advanced = jax.jit(lambda c: jax.lax.scan(body, c, None, length=24))(carry)
+    assert bool(last[1].alive)
+    at = np.flatnonzero(np.asarray(advanced)) + 1            # stone steps done at each advance
+    assert len(at) >= 24 // steps - 1 and set(np.diff(np.concatenate([[0], at]))) == {steps}, at
+
+
+def test_rollout_coupled_refuses_a_window_narrower_than_the_stone(paper, water):
+    """(2026-12-06, a review) simulate refused a 6 cm window under the 10 cm paper stone, rollout_coupled ran it
+    (1 bounce at 0.375 m): neither flat nor coupled water."""
+    narrow = WaterGrid(shape=(6, 6), spacing=0.01, depth=0.02, clamp="smooth")
+    with pytest.raises(ParameterError, match=r"grid must be at least as wide as the stone: its window spans 0.06 m"):
+        rollout_coupled(SimConfig(duration=0.05), narrow, Throw.from_degrees(), paper, water)
+
+
+def test_a_field_run_snapshots_the_water_every_ten_ms_of_contact():
+    """(2026-12-06, a review) simulate(water_field=...) snapshot the water once per 1000-step chunk: the default
+    throw's animation had 2 frames, of its last 50 ms. By default a field run now takes a chunk of 10 ms of
+    fine steps (40 at 0.25 ms), the CLI's choice for its pictures."""
+    from jaxskip import simulate
+    from jaxskip.api import FIELD_CHUNK_TIME
+
+    r = simulate(config=SimConfig(duration=0.2), water_field=SMALL)
+    t = np.array([f[0] for f in r.field["frames"]])
+    assert len(t) >= 10 and t[0] <= 0.05 and np.all(np.diff(t) > 0), t
+    # (the trajectory's first row is the release, at t = 0)
+    steps = np.diff(np.concatenate([[1], np.searchsorted(r.trajectory["time"], t, side="right")]))
+    assert np.all(steps[:-1] == round(FIELD_CHUNK_TIME / 2.5e-4)), steps

@@ -227,3 +227,22 @@ def test_frames_of_a_float32_result_after_x64_is_switched_on():
     np.testing.assert_array_equal(f64["time"], f32["time"])
     np.testing.assert_allclose(f64["position"], f32["position"], rtol=0, atol=1e-5)
     np.testing.assert_allclose(f64["orientation"], f32["orientation"], rtol=0, atol=1e-5)
+
+
+def test_a_field_throws_trajectory_says_which_water_it_ran_on(tmp_path):
+    """(2026-12-06, a review) a trajectory of a throw on the moving height field said "water at z = 0", as for
+    flat water; now its about text names the field and the JSON carries the grid (not its snapshots)."""
+    from jaxskip.water import WaterGrid
+
+    grid = WaterGrid(shape=(24, 24), spacing=0.01, depth=0.02, boundary="sponge", sponge_width=4, clamp="smooth")
+    r = simulate(config=SimConfig(duration=0.05), water_field=grid)
+    write_trajectory(r, tmp_path / "t.json", fps=100.0)
+    out = json.loads((tmp_path / "t.json").read_text())
+    assert out["about"].endswith("the throw ran on a moving height field (24x24 columns of 0.01 m following the "
+                                 "stone), not written here")
+    assert out["water"]["shape"] == [24, 24] and "frames" not in out["water"]
+    assert "height field (24x24 columns of 0.01 m following the stone), not written here" in (
+        tmp_path / "t.stone.obj").read_text().splitlines()[0]
+    write_trajectory(simulate(config=SimConfig(duration=0.05)), tmp_path / "flat.json", fps=100.0)
+    flat = json.loads((tmp_path / "flat.json").read_text())
+    assert flat["about"].endswith("water at z = 0") and "water" not in flat

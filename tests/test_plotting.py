@@ -238,3 +238,24 @@ def test_a_picture_path_needs_a_format_suffix(held_disk, tmp_path):
     assert not any(tmp_path.iterdir())
     plot_throw(held_disk, tmp_path / "h2.jpg")
     assert (tmp_path / "h2.jpg").read_bytes()[:2] == b"\xff\xd8"   # a JPEG
+
+
+def test_an_animation_into_a_missing_folder_is_refused_before_drawing(held_disk, tmp_path, monkeypatch):
+    """(2026-12-06, a review) animate_throw drew every frame, then met a raw FileNotFoundError (no folder) or
+    IsADirectoryError (a folder named x.gif); both are refused first, by name."""
+    import dataclasses
+
+    import jaxskip.plotting as plotting
+    from jaxskip import ParameterError, clanet_disk, rigid_stone
+
+    stone = rigid_stone(clanet_disk(), density=2700.0)
+    one = (0.0, np.zeros(2), np.full((8, 8), 0.02), np.array([0.0, 0.0, 0.01]), np.array([1.0, 0.0, 0.0, 0.0]))
+    wet = dataclasses.replace(held_disk, field={"depth": 0.02, "spacing": 0.01, "shape": [8, 8], "frames": [one]})
+    monkeypatch.setattr(plotting, "_arc_path", lambda *a: pytest.fail("drew before checking the path"))
+    with pytest.raises(ParameterError, match=r"path: the folder .*nowhere' of .*x.gif' does not exist"):
+        plotting.animate_throw(wet, stone, tmp_path / "nowhere" / "x.gif")
+    (tmp_path / "d.gif").mkdir()
+    with pytest.raises(ParameterError, match=r"path must name a file, got the folder .*d.gif'"):
+        plotting.animate_throw(wet, stone, tmp_path / "d.gif")
+    with pytest.raises(ParameterError, match=r"path: the folder .*nowhere' of .*x.png' does not exist"):
+        plotting.plot_water(wet, stone, tmp_path / "nowhere" / "x.png")

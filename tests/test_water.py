@@ -518,3 +518,24 @@ def test_no_column_dips_below_zero_in_float32_after_a_strong_push():
             s = step(s, jnp.roll(p, k // 10, axis=0) if k < 150 else jnp.zeros_like(p))
             lowest.append(float(s.height.min()))
         assert min(lowest) >= 0.0, (clamp, min(lowest), lowest.index(min(lowest)))
+
+
+def test_the_pure_step_refuses_a_non_finite_pressure_and_a_missing_state():
+    """(2026-12-06, a review) make_water_step's step turned a NaN or infinite pressure into NaN heights in
+    silence (run_water refused it) and met None with a raw AttributeError; traced values still pass."""
+    grid = WaterGrid(shape=(8, 8), spacing=0.01, depth=0.02)
+    step = make_water_step(grid)
+    w = still_water(grid)
+    for bad in (jnp.nan, jnp.inf):
+        with pytest.raises(ParameterError, match=r"pressure must be finite in every column \[Pa\]"):
+            step(w, jnp.full((8, 8), bad))
+    with pytest.raises(ParameterError, match="state must be a jaxskip.WaterState .*got NoneType"):
+        step(None, jnp.zeros((8, 8)))
+    h = jax.jit(step)(w, jnp.zeros((8, 8))).height                  # traced pressure: no check, still water
+    np.testing.assert_array_equal(np.asarray(h), np.asarray(w.height))
+
+
+def test_a_grid_origin_may_be_a_list():
+    """(2026-12-06, a review) origin=[0.1, 0.2] was refused ("must be a tuple"); it is stored as a tuple."""
+    g = WaterGrid(shape=(8, 8), origin=[0.1, 0.2])
+    assert g.origin == (0.1, 0.2) and hash(g) == hash(WaterGrid(shape=(8, 8), origin=(0.1, 0.2)))
