@@ -336,7 +336,7 @@ def run_sweep_command(args) -> int:
 
     jax.config.update("jax_enable_x64", True)
     from optimize import make_spec, merge, plot_sweep, run_sweep
-    from optimize.sweep import _chunks, bracket_digits
+    from optimize.sweep import SCAN_SPEEDS, _chunks, bracket_digits
 
     if args.kind == "merge":
         result = merge(args.folders, args.out)
@@ -377,18 +377,22 @@ def run_sweep_command(args) -> int:
         low, high = spec["speed_range"]
         failed = result.get("diverged") or [0] * len(spec["tilts"])
         cut = result.get("cut_off") or [0] * len(spec["tilts"])
-        for t, u, n_low, n_failed, n_cut in zip(spec["tilts"], result["umin"], result["bounces_at_low"], failed, cut):
+        monotone = result.get("monotone") or [1] * len(spec["tilts"])
+        for t, u, n_low, n_failed, n_cut, steady in zip(spec["tilts"], result["umin"], result["bounces_at_low"], failed,
+                                                        cut, monotone):
             if n_failed:
                 shown = f"no U_min: {n_failed} of its bisection throws diverged (take a smaller --dt)"
             elif n_cut:
                 shown = (f"no U_min: {n_cut} of its bisection throws were still in their first contact or flight "
                          f"when {_limits(spec)} stopped them (raise them)")
             elif u is None:
-                shown = f"no bounce up to {high:g} m/s"
+                shown = f"no bounce at the {SCAN_SPEEDS + 2} speeds thrown from {low:g} to {high:g} m/s"
             elif n_low > 0:
                 shown = f"U_min <= {low:g} m/s (bounces at the bracket's low end)"
             else:
                 shown = f"U_min {u:.2f} m/s"
+            if u is not None and not steady:
+                shown += " (not monotone: a faster throw failed to bounce; the lowest bouncing speed found)"
             _say(f"tilt {t:6.1f} deg: {shown}")
         if result["best_tilt"] is not None:
             u, res = result["best_umin"], result["resolution"]
@@ -402,15 +406,14 @@ def run_sweep_command(args) -> int:
                 digits = bracket_digits(res)
                 where = (f"bisection: the true U_min lies in ({u - res:.{digits}f}, {u:.{digits}f}] m/s, a bracket "
                          f"of {res:.2g} m/s")
-            tied = [f"{t:g}" for t, v, n_low, n_failed in zip(spec["tilts"], result["umin"], result["bounces_at_low"],
-                                                              failed) if v == u and not n_low and not n_failed]
-            tie = u > low and len(tied) > 1   # the first of equal answers is not a minimum
+            tied = [f"{t:g}" for t in result["tied_tilts"]]
+            tie = bool(tied)   # the first of equal answers is not a minimum (nor is there a parabola: assemble)
             if tie:
                 _say(f"magic angle: no single minimum: tilts {', '.join(tied)} deg tie at U_min {u:.2f} m/s ({where}; "
                      "more --iterations narrow the bracket)")
             else:
                 _say(f"magic angle: {result['best_tilt']:g} deg, U_min {u:.2f} m/s ({where})")
-            if result["best_tilt_fit"] is not None and not tie:
+            if result["best_tilt_fit"] is not None:
                 _say(f"  between grid points (parabola through its neighbours): {result['best_tilt_fit']:.1f} deg, "
                      f"U_min {result['best_umin_fit']:.2f} m/s")
             unknown = [f"{t:g}" for t, v, n_failed, n_cut in zip(spec["tilts"], result["umin"], failed, cut)

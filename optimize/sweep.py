@@ -8,13 +8,20 @@ is the high-spin limit, where the tilt stays constant during the impact: the
 defaults here are their disk (``stone="clanet"``), ``attitude="fixed"`` and
 their reference spin, impact angle :math:`\beta = 20°` and speed 3.5 m/s.
 
-* :func:`bounce_domain` — bounce counts on a (tilt, attack) grid at one speed.
-* :func:`minimal_speed` — :math:`U_{min}(\alpha)` by batched bisection: every
-  tilt of a chunk is bisected at once (one :func:`jaxskip.simulate_batch`
-  call per iteration), assuming that a throw that bounces still bounces when
-  faster (true of the fixed-attitude model over the range swept; checked by the
-  result's ``bounces_at_high``). The answer is bracketed to
-  ``(high - low) / 2**iterations``.
+A sweep is a :func:`make_spec` of one of two kinds, run by :func:`run_sweep`:
+
+* ``"domain"`` — bounce counts on a (tilt, attack) grid at one speed.
+* ``"umin"`` — :math:`U_{min}(\alpha)`, the lowest speed that bounces, by batched
+  bisection: every tilt of a chunk is bisected at once (one :func:`jaxskip.simulate_batch`
+  call per iteration). Bisection assumes that a throw that bounces still bounces when faster:
+  true of the fixed-attitude model over the ranges tested, not of a free stone, which can flip
+  at speed (the free Clanet disk at 10° of tilt, 20° attack and 65 rev/s bounces at every speed from
+  2.5 to 11.5 m/s in steps of 0.5, not at 12 or 12.5, again at 13; 2026-12-06). So the
+  bracket's ends and :data:`SCAN_SPEEDS` speeds evenly spaced between them are thrown first;
+  where a faster speed of that scan fails to bounce after a slower one did (``monotone`` 0),
+  the bisection runs in the scan's first interval in which the count turns from 0 to a bounce,
+  instead of the whole bracket (a bouncing window narrower than the scan's step can then be
+  missed). The answer is bracketed to ``(high - low) / 2**iterations`` (finer where not monotone).
 * :func:`parabola_minimum` — the magic angle between grid points: the vertex
   of the parabola through the lowest :math:`U_{min}` and its two neighbours
   (``best_tilt_fit``, ``best_umin_fit`` in a U_min sweep's result).
@@ -91,7 +98,10 @@ THROW_LIMITS = {
 #: The lists of numbers each kind's chunk file holds, one entry per work item: counts (non-negative
 #: integers) and values (finite numbers or null).
 CHUNK_COUNTS = {"domain": ("bounces", "diverged", "cut_off"),
-                "umin": ("bounces_at_high", "bounces_at_low", "diverged", "cut_off")}
+                "umin": ("bounces_at_high", "bounces_at_low", "diverged", "cut_off", "monotone")}
+#: Speeds a U_min sweep throws at each tilt between its bracket's ends, evenly spaced, before bisecting, to
+#: see whether a faster throw always bounces once a slower one does (module docstring).
+SCAN_SPEEDS = 8
 #: Outcomes of a throw still in play when the run stopped it (its count is a lower bound).
 CUT_OFF = ("time_limit", "step_limit")
 CHUNK_VALUES = {"domain": ("first_contact_time",), "umin": ("umin",)}
@@ -316,41 +326,63 @@ def _domain_chunk(spec: SweepSpec, sim, index: np.ndarray, progress: bool) -> di
             "diverged": diverged.astype(int).tolist(), "cut_off": cut.astype(int).tolist()}
 
 
+def _umin_throws(spec: SweepSpec) -> int:
+    """Throws a U_min sweep makes at each tilt: the bracket's ends, the scan between them, one a bisection step."""
+    return 2 + SCAN_SPEEDS + spec.iterations
+
+
 def _umin_chunk(spec: SweepSpec, sim, index: np.ndarray, progress: bool) -> dict:
     tilt = np.asarray(spec.tilts)[index]
-    lo = np.full(len(index), spec.speed_range[0])
-    hi = np.full(len(index), spec.speed_range[1])
+    n = len(index)
+    lo = np.full(n, spec.speed_range[0])
+    hi = np.full(n, spec.speed_range[1])
 
-    failed = np.zeros(len(index), int)  # the tilt's bisection throws that diverged
-    unknown = np.zeros(len(index), int)  # ...and those cut off by the duration or step limit before a bounce
+    failed = np.zeros(n, int)  # the tilt's throws that diverged
+    unknown = np.zeros(n, int)  # ...and those cut off by the duration or step limit before a bounce
 
     def bounces(speed):
+        """Counts (n, k) of the throws at speeds (n, k) [m/s], row i at tilt i."""
         nonlocal failed, unknown
-        throws = Throw.from_degrees(speed=speed, tilt=tilt, attack=spec.attacks[0], spin=spec.spin)
+        k = speed.shape[1]
+        throws = Throw.from_degrees(speed=speed.ravel(), tilt=np.repeat(tilt, k), attack=spec.attacks[0],
+                                    spin=spec.spin)
         r, diverged = _batch(throws, sim, False)
-        failed = failed + diverged
+        failed = failed + diverged.reshape(n, k).sum(axis=1)
         # no bounce yet when the run stopped it: whether it would bounce is unknown, not "no"
-        unknown = unknown + (np.isin(r.outcome_names, CUT_OFF) & (np.asarray(r.bounces) == 0))
-        return r.bounces
+        unknown = unknown + (np.isin(r.outcome_names, CUT_OFF) & (np.asarray(r.bounces) == 0)).reshape(n, k).sum(axis=1)
+        return np.asarray(r.bounces).reshape(n, k)
 
-    at_high = bounces(hi)
-    at_low = bounces(lo)
+    # the bracket's ends and SCAN_SPEEDS speeds between them, in one batch
+    speeds = lo[:, None] + (hi - lo)[:, None] * (np.arange(SCAN_SPEEDS + 2) / (SCAN_SPEEDS + 1))[None, :]
+    speeds[:, -1] = hi
+    ladder = bounces(speeds)
+    at_low, at_high = ladder[:, 0], ladder[:, -1]
+    bounced = ladder > 0
+    monotone = np.all(bounced[:, 1:] >= bounced[:, :-1], axis=1)
+    first = np.argmax(bounced, axis=1)   # the slowest speed of the scan that bounces (0 where none does)
+    found = bounced.any(axis=1)
+    # where a faster throw fails to bounce after a slower one did, bisect the first interval in which the
+    # count turns from 0 to a bounce (where it is monotone, the whole bracket, as ever: the same answer)
+    narrow = ~monotone & found & (first > 0)
+    rows = np.arange(n)
+    lo = np.where(narrow, speeds[rows, np.maximum(first - 1, 0)], lo)
+    hi = np.where(narrow, speeds[rows, first], hi)
     line = ProgressLine()
     for i in range(spec.iterations):
         mid = 0.5 * (lo + hi)
-        ok = bounces(mid) > 0
+        ok = bounces(mid[:, None])[:, 0] > 0
         hi, lo = np.where(ok, mid, hi), np.where(ok, lo, mid)
         if progress:
             line.update(f"    bisection {i + 1}/{spec.iterations}")
     if progress:
         line.close()
-    umin = np.where(at_low > 0, spec.speed_range[0], np.where(at_high > 0, hi, np.nan))
+    umin = np.where(at_low > 0, spec.speed_range[0], np.where(found, hi, np.nan))
     # a bisection that met a diverged throw took a step on a count that means nothing: no U_min there
     umin = np.where(failed > 0, np.nan, umin)
     # ...and so did one that took a throw cut off before its first bounce for one that does not bounce
     umin = np.where(unknown > 0, np.nan, umin)
     return {"umin": [_num(x) for x in umin], "bounces_at_high": at_high.tolist(), "bounces_at_low": at_low.tolist(),
-            "diverged": failed.tolist(), "cut_off": unknown.tolist()}
+            "diverged": failed.tolist(), "cut_off": unknown.tolist(), "monotone": monotone.astype(int).tolist()}
 
 
 def _num(x) -> float | None:
@@ -499,6 +531,7 @@ def run_sweep(spec: SweepSpec, out_dir=None, *, shard_index: int = 0, num_shards
             computed += 1
     _warn_diverged(spec, list(results.values()), sim[0])
     _warn_cut_off(spec, list(results.values()), sim[0])
+    _warn_not_monotone(spec, list(results.values()))
     if len(results) < len(chunks):
         return None
     result = assemble(spec, [results[j] for j in range(len(chunks))])
@@ -514,10 +547,26 @@ def _warn_diverged(spec: SweepSpec, chunks: list[dict], config) -> None:
     if spec.kind == "domain":
         what, treatment = "domain sweep", "their counts mean nothing (1 in 'diverged' of result.json and result.csv)"
     else:
-        total *= spec.iterations + 2  # each tilt's bisection: both bracket ends, then one throw a step
+        total *= _umin_throws(spec)
         bad = sum(1 for c in chunks for n in c["diverged"] if n)
         what, treatment = "U_min sweep", f"{bad} tilt(s) have no U_min ('diverged' counts them per tilt)"
     warn_diverged(failed, total, what, treatment, config, stacklevel=3)
+
+
+def _warn_not_monotone(spec: SweepSpec, chunks: list[dict]) -> None:
+    """One :class:`jaxskip.AccuracyWarning` for the tilts of a U_min sweep's chunks at which a faster throw of the
+    scan failed to bounce after a slower one bounced (``monotone`` 0): their ``umin`` is bisected in the scan's
+    first interval in which the count turns from 0, and a narrower bouncing window may be missed."""
+    if spec.kind != "umin":
+        return
+    tilts = [spec.tilts[i] for c in chunks for i, m in zip(c["items"], c["monotone"]) if not m]
+    if tilts:
+        step = (spec.speed_range[1] - spec.speed_range[0]) / (SCAN_SPEEDS + 1)
+        warnings.warn(f"U_min sweep: at {len(tilts)} tilt(s) ({', '.join(f'{t:g}' for t in tilts)} deg) a faster throw "
+                      f"failed to bounce where a slower one bounced ('monotone' 0 in result.json and result.csv; a "
+                      f"free stone can flip at speed): U_min there is the lowest speed that bounces among the "
+                      f"{SCAN_SPEEDS + 2} thrown {step:.3g} m/s apart, refined by bisection; a bouncing window "
+                      f"narrower than {step:.3g} m/s below it would be missed", AccuracyWarning, stacklevel=3)
 
 
 def _warn_cut_off(spec: SweepSpec, chunks: list[dict], config) -> None:
@@ -532,7 +581,7 @@ def _warn_cut_off(spec: SweepSpec, chunks: list[dict], config) -> None:
                 "their counts are lower bounds (1 in 'cut_off' of result.json and result.csv)")
     else:
         bad = sum(1 for c in chunks for n in c["cut_off"] if n)
-        what = (f"{cut} of the {total * (spec.iterations + 2)} throws of this U_min sweep were stopped before their "
+        what = (f"{cut} of the {total * _umin_throws(spec)} throws of this U_min sweep were stopped before their "
                 f"first bounce, so whether they bounce is unknown: {bad} tilt(s) have no U_min ('cut_off' counts them "
                 "per tilt)")
     warnings.warn(f"{what}; the run stops a throw at duration={config.duration:g} s or max_steps={config.max_steps}: "
@@ -760,13 +809,19 @@ def assemble(spec: SweepSpec, chunks: list[dict]) -> dict:
     *duration* of the first contact [s], from its first wet triangle to the time its last wet triangle left
     the water (not when the contact happened; None where there was none or it never ended in a bounce).
 
-    A U_min sweep's result: ``umin`` per tilt [m/s] (None: no bounce up to the bracket's top),
-    ``best_tilt`` [deg] / ``best_umin`` [m/s] the lowest grid point, ``best_tilt_fit`` /
+    A U_min sweep's result: ``umin`` per tilt [m/s] (None: no bounce at any speed thrown, the bracket's
+    ends and the :data:`SCAN_SPEEDS` between them), ``best_tilt`` [deg] / ``best_umin`` [m/s] the lowest
+    grid point (the first of them), ``tied_tilts`` [deg] the grid points that share that lowest ``umin``
+    when more than one does (a tie: no single minimum at this resolution; else empty), ``best_tilt_fit`` /
     ``best_umin_fit`` the minimum between grid points (:func:`parabola_minimum`; None at the
-    sweep's edge, and None when any tilt bounces at the bracket's low end), ``resolution`` the width of the bisection's final bracket [m/s]. Each ``umin`` is
+    sweep's edge, at a tie, and when any tilt bounces at the bracket's low end), ``resolution`` the width
+    of the bisection's final bracket [m/s]. Each ``umin`` is
     that bracket's top (a speed that bounces), so the true minimal speed lies in
     ``(umin - resolution, umin]``; where the bracket's low end already bounces
     (``bounces_at_low`` > 0), ``umin`` is that low end and the true value lies at or below it.
+    ``monotone``: 1 per tilt where every speed of the scan faster than one that bounced bounced too, 0 where
+    one did not (a free stone flipping at speed): that tilt's ``umin`` is the lowest speed that bounces,
+    bisected in the scan's first interval in which the count turns from 0 (module docstring).
 
     ``diverged``: throws whose integration failed (outcome ``"diverged"``: the contact step is too long for
     the stone and throw): for a domain sweep 1 or 0 per grid point, (n_tilts, n_attacks), whose count then
@@ -795,9 +850,14 @@ def assemble(spec: SweepSpec, chunks: list[dict]) -> dict:
         at_low = cat("bounces_at_low")
         # Where the bracket's low end bounces, umin is only a bound (the true value is at or below it), and
         # the true minimum lies at such a tilt: no parabola through bounds.
-        fit = (None, None) if any(n > 0 for n in at_low) else parabola_minimum(spec.tilts, umin)
+        # Equal answers at several grid points (a coarse bracket): no single minimum, and no parabola either
+        # (the CLI, the JSON and the plot said three things: a tie, the first of them, and a fitted vertex)
+        tied = [t for u, t, n in zip(umin, spec.tilts, at_low) if u is not None and u == best[0] and not n]
+        tied = tied if len(tied) > 1 and best[0] > spec.speed_range[0] else []
+        fit = ((None, None) if any(n > 0 for n in at_low) or tied
+               else parabola_minimum(spec.tilts, umin))
         result.update(umin=umin, bounces_at_high=cat("bounces_at_high"), bounces_at_low=at_low, diverged=cat("diverged"),
-                      cut_off=cat("cut_off"),
+                      cut_off=cat("cut_off"), monotone=cat("monotone"), tied_tilts=tied,
                       best_tilt=best[1], best_umin=best[0], best_tilt_fit=fit[0], best_umin_fit=fit[1],
                       resolution=(spec.speed_range[1] - spec.speed_range[0]) / 2**spec.iterations)
     return result
@@ -819,12 +879,12 @@ def write_results(result: dict, out: Path) -> None:
     else:
         # bounces_at_low > 0: the bracket's low end bounces already, umin_m_s is only an upper bound
         rows.append(["tilt_deg", "attack_deg", "spin_rev_s", "umin_m_s", "bounces_at_high", "bounces_at_low",
-                     "diverged", "cut_off"])
+                     "diverged", "cut_off", "monotone"])
         for i, t in enumerate(spec["tilts"]):
             u = result["umin"][i]
             rows.append([t, spec["attacks"][0], spec["spin"], "" if u is None else u, result["bounces_at_high"][i],
                          result["bounces_at_low"][i], result["diverged"][i],
-                         result["cut_off"][i]])
+                         result["cut_off"][i], result["monotone"][i]])
     from io import StringIO
 
     buf = StringIO()
@@ -910,6 +970,7 @@ def merge(folders, out_dir) -> dict:
     limits = SimConfig(dt=spec.config["dt"], duration=spec.config["duration"], max_steps=spec.config["max_steps"])
     _warn_diverged(spec, merged, limits)
     _warn_cut_off(spec, merged, limits)
+    _warn_not_monotone(spec, merged)
     result = assemble(spec, merged)
     write_results(result, out)
     return result
@@ -948,7 +1009,7 @@ def _umin_panel(ax, result: dict) -> None:
     failed = np.asarray(result.get("diverged") or [0] * len(u)) > 0
     cut = (np.asarray(result.get("cut_off") or [0] * len(u)) > 0) & ~failed
     none = np.isnan(u) & ~failed & ~cut
-    for where, marker, label in ((none, "x", f"no bounce up to {high:g} m/s (the bracket's top)"),
+    for where, marker, label in ((none, "x", f"no bounce at the {SCAN_SPEEDS + 2} speeds thrown up to {high:g} m/s"),
                                  (failed & np.isnan(u), "X", "no U_min: a bisection throw diverged (take a smaller dt)"),
                                  (cut & np.isnan(u), "^", "no U_min: a bisection throw was still in play at the "
                                                          "duration or step limit (raise it)")):
@@ -958,8 +1019,19 @@ def _umin_panel(ax, result: dict) -> None:
         u0 = result["best_umin"]
         d = bracket_digits(res)
         where = (f"U_min ≤ {u0:.2f} m/s" if u0 <= low else f"U_min in ({u0 - res:.{d}f}, {u0:.{d}f}] m/s")
-        ax.axvline(result["best_tilt"], color="C3", lw=0.8, ls="--",
-                   label=f"lowest grid point: {result['best_tilt']:g}°, {where}")
+        tied = result.get("tied_tilts") or []
+        if tied:   # no single minimum: every tied grid point marked, none named the magic angle
+            for k, t in enumerate(tied):
+                ax.axvline(t, color="C3", lw=0.8, ls="--",
+                           label=(f"no single minimum: {', '.join(f'{x:g}' for x in tied)}° tie, {where}" if k == 0
+                                  else None))
+        else:
+            ax.axvline(result["best_tilt"], color="C3", lw=0.8, ls="--",
+                       label=f"lowest grid point: {result['best_tilt']:g}°, {where}")
+    rough = np.asarray(result.get("monotone") or [1] * len(u)) == 0
+    if (rough & np.isfinite(u)).any():
+        ax.plot(tilts[rough & np.isfinite(u)], u[rough & np.isfinite(u)], "o", color="C1", ms=9, mfc="none",
+                label="a faster throw failed to bounce here: the lowest bouncing speed of a scan, bisected")
     if result.get("best_tilt_fit") is not None:
         ax.plot([result["best_tilt_fit"]], [result["best_umin_fit"]], "*", color="C3", ms=10,
                 label=f"between grid points (parabola): {result['best_umin_fit']:.2f} m/s at "

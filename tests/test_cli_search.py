@@ -414,7 +414,7 @@ def test_range_flags_show_the_limits_that_are_checked(capsys):
 
 def test_umin_text_words_the_bisection_bracket(tmp_path, capsys):
     """The reported U_min is the top of the bisection's last bracket: the text says the true value lies in
-    (U - resolution, U]; a tilt that never bounces reads 'no bounce up to 8 m/s'; one that bounces at the
+    (U - resolution, U]; a tilt that never bounces reads 'no bounce at the 10 speeds thrown from 0.5 to 8 m/s'; one that bounces at the
     bracket's low end reads 'U_min <= LOW'."""
     out = tmp_path / "s"
     assert main(["sweep", "umin", "--tilts", "5,20,60", "--iterations", "3", "--out", str(out)]) == 0
@@ -422,7 +422,7 @@ def test_umin_text_words_the_bisection_bracket(tmp_path, capsys):
     r = json.loads((out / "result.json").read_text())
     u, res = r["best_umin"], r["resolution"]
     assert r["best_tilt"] == 20.0 and r["umin"][2] is None and res == (8.0 - 0.5) / 2 ** 3
-    assert "tilt   60.0 deg: no bounce up to 8 m/s\n" in text and "(no bounce)" not in text
+    assert "tilt   60.0 deg: no bounce at the 10 speeds thrown from 0.5 to 8 m/s\n" in text and "(no bounce)" not in text
     assert f"magic angle: 20 deg, U_min {u:.2f} m/s (bisection: the true U_min lies in ({u - res:.2f}, {u:.2f}] m/s"\
         in text and "+-" not in text
     assert main(["sweep", "umin", "--tilts", "20,60", "--iterations", "1", "--speed-range", "2.5", "8"]) == 0
@@ -507,7 +507,7 @@ def test_optimize_and_sweep_print_each_warning_once_and_mark_diverged_throws(tmp
     assert sum("U_min sweep diverged" in line for line in captured.err.splitlines()) == 1
     assert "tilt   20.0 deg: no U_min:" in captured.out and "of its bisection throws diverged" in captured.out
     rows = (tmp_path / "s" / "result.csv").read_text().splitlines()
-    assert rows[0].endswith(",diverged,cut_off") and not rows[1].endswith(",0,0")
+    assert rows[0].endswith(",diverged,cut_off,monotone") and rows[1].split(",")[-3:-1] != ["0", "0"]
 
 
 def test_sweep_says_which_answers_the_duration_cut_off(tmp_path, capsys):

@@ -259,7 +259,7 @@ def test_umin_error_bars_are_the_bisection_bracket():
     texts = legend_texts(ax)
     assert any("true U_min in (U − 0.25, U] m/s" in t for t in texts), texts
     assert "bounces at the bracket's low end: U_min ≤ 0.5 m/s" in texts
-    assert "no bounce up to 8 m/s (the bracket's top)" in texts
+    assert "no bounce at the 10 speeds thrown up to 8 m/s" in texts
     assert any("lowest grid point: 30°, U_min ≤ 0.50 m/s" in t for t in texts), texts
 
 
@@ -295,7 +295,7 @@ def test_umin_tilts_without_an_answer_say_why():
     assert marks == {"x": [10.0], "^": [30.0], "X": [40.0]}, marks
     texts = legend_texts(ax)
     assert any("still in play at the duration" in t for t in texts) and any("diverged" in t for t in texts), texts
-    assert sum("no bounce up to 8 m/s" in t for t in texts) == 1, texts
+    assert sum("no bounce at the 10 speeds thrown up to 8 m/s" in t for t in texts) == 1, texts
 
 
 def test_domain_marks_the_points_the_duration_cut_off():
@@ -378,3 +378,17 @@ def test_a_local_search_with_diverged_throws_is_drawn():
     grid = exhaustive("grid", [1] * 79)      # 3^4 = 81 grid throws, 2 of which diverged
     grid = SearchResult("grid", BEST, 1, grid.history, make_box(), 1.0, 81, 0, best_distance=3.21, diverged=2)
     assert "3 per searched parameter, 81 throws" in _search_figure(grid).axes[0].get_title()
+
+
+def test_a_tie_and_a_scan_that_is_not_monotone_are_drawn_as_such():
+    """(2026-12-06, a review) a tie for the lowest U_min was drawn as 'lowest grid point: 10°' beside a parabola
+    star the text output refused to give; now every tied tilt is marked as a tie. A tilt whose scan was not
+    monotone is ringed."""
+    result = dict(umin_result([3.0, 2.0, 2.0, 2.5], [0, 0, 0, 0]), tied_tilts=[20.0, 30.0], monotone=[1, 1, 1, 0])
+    ax = _sweep_figure(result).axes[0]
+    texts = legend_texts(ax)
+    assert any(t.startswith("no single minimum: 20, 30° tie, U_min in (1.75, 2.00] m/s") for t in texts), texts
+    assert not any("lowest grid point" in t for t in texts), texts
+    assert "a faster throw failed to bounce here: the lowest bouncing speed of a scan, bisected" in texts
+    dashed = [ln.get_xdata()[0] for ln in ax.get_lines() if ln.get_linestyle() == "--"]
+    assert dashed == [20.0, 30.0]

@@ -212,13 +212,13 @@ def test_no_parabola_through_speeds_that_are_only_bounds(tmp_path):
 
     spec = make_spec("umin", tilts=[6.0, 12.0, 18.0, 24.0], speed_range=(1.85, 6.0), iterations=6)
     chunk = {"umin": [2.30, 1.85, 1.85, 2.04], "bounces_at_high": [1, 1, 1, 1], "bounces_at_low": [0, 1, 1, 0],
-             "diverged": [0, 0, 0, 0], "cut_off": [0, 0, 0, 0]}
+             "diverged": [0, 0, 0, 0], "cut_off": [0, 0, 0, 0], "monotone": [1, 1, 1, 1]}
     r = assemble(spec, [chunk])
     assert r["best_tilt_fit"] is None and r["best_umin_fit"] is None and r["best_umin"] == 1.85
     write_results(r, tmp_path)
     rows = (tmp_path / "result.csv").read_text().splitlines()
-    assert rows[0].endswith(",umin_m_s,bounces_at_high,bounces_at_low,diverged,cut_off")
-    assert rows[2].endswith(",1.85,1,1,0,0")
+    assert rows[0].endswith(",umin_m_s,bounces_at_high,bounces_at_low,diverged,cut_off,monotone")
+    assert rows[2].endswith(",1.85,1,1,0,0,1")
     r = assemble(spec, [dict(chunk, bounces_at_low=[0, 0, 0, 0], umin=[2.30, 1.90, 1.88, 2.04])])
     assert 12.0 < r["best_tilt_fit"] < 18.0  # measured speeds: the parabola stands
 
@@ -340,15 +340,15 @@ def _finished_umin(out):
 @pytest.mark.parametrize("text, problem", [
     ("{}", "it lacks 'chunk', 'items'"),
     ('{"bounces_at_high": [1], "bou', "not valid JSON"),                                  # truncated
-    ('{"chunk": 1, "items": [1], "umin": [1.0, 2.0], "bounces_at_high": [1], "bounces_at_low": [0], "diverged": [0], "cut_off": [0]}',
+    ('{"chunk": 1, "items": [1], "umin": [1.0, 2.0], "bounces_at_high": [1], "bounces_at_low": [0], "diverged": [0], "cut_off": [0], "monotone": [1]}',
      "'umin' must be a list of 1 values"),
-    ('{"chunk": 0, "items": [0], "umin": [1.0], "bounces_at_high": [1], "bounces_at_low": [0], "diverged": [0], "cut_off": [0]}',
+    ('{"chunk": 0, "items": [0], "umin": [1.0], "bounces_at_high": [1], "bounces_at_low": [0], "diverged": [0], "cut_off": [0], "monotone": [1]}',
      "not chunk 1 of this sweep"),
-    ('{"chunk": 1, "items": [1], "umin": ["x"], "bounces_at_high": [1], "bounces_at_low": [0], "diverged": [0], "cut_off": [0]}',
+    ('{"chunk": 1, "items": [1], "umin": ["x"], "bounces_at_high": [1], "bounces_at_low": [0], "diverged": [0], "cut_off": [0], "monotone": [1]}',
      "'umin' holds a value that is not a number"),
     ("[]", "not a JSON object"),
     # (session 32) a U_min outside the bisection's bracket was taken as found
-    ('{"chunk": 1, "items": [1], "umin": [-5.0], "bounces_at_high": [1], "bounces_at_low": [0], "diverged": [0], "cut_off": [0]}',
+    ('{"chunk": 1, "items": [1], "umin": [-5.0], "bounces_at_high": [1], "bounces_at_low": [0], "diverged": [0], "cut_off": [0], "monotone": [1]}',
      "'umin' holds -5.0, outside [0.5, 8] m/s, the bisection's bracket"),
 ], ids=["empty", "truncated", "too-long", "another-chunk", "not-a-number", "not-an-object", "outside-bracket"])
 def test_damaged_chunk_is_refused_naming_it_and_recomputed_once_deleted(tmp_path, text, problem):
@@ -696,3 +696,34 @@ def test_stability_warning_is_issued_once_per_sweep_at_its_fastest_throw():
         run_sweep(spec)
     stability = [w for w in caught if issubclass(w.category, StabilityWarning)]
     assert len(stability) == 1 and "at 8 m/s" in str(stability[0].message)
+
+
+def test_umin_of_a_free_stone_that_flips_at_speed_is_its_lowest_bouncing_speed(tmp_path):
+    """(2026-12-06, a review) bisection assumes a faster throw still bounces; the free Clanet disk at 10 deg
+    (20 deg attack, 65 rev/s) bounces at every speed from 2.5 to 11.5 m/s in steps of 0.5 but not at 12 or 2.0,
+    so a bracket of (0.5, 12) m/s read 'no bounce up to 12 m/s'. A scan of the bracket now finds the
+    bouncing speeds: U_min is bisected where the count first turns from 0, the tilt marked not monotone,
+    and the run warns."""
+    from jaxskip import AccuracyWarning
+
+    spec = make_spec("umin", tilts=[10.0], speed_range=(0.5, 12.0), iterations=3, attitude="free", duration=1.0)
+    with pytest.warns(AccuracyWarning, match=r"at 1 tilt\(s\) \(10 deg\) a faster throw failed to bounce"):
+        r = run_sweep(spec, tmp_path / "s")
+    assert r["bounces_at_high"] == [0] and r["monotone"] == [0] and r["cut_off"] == [0]
+    assert 2.0 < r["umin"][0] <= 2.5 + (12.0 - 0.5) / 9 / 2**3, r["umin"]
+    assert (tmp_path / "s" / "result.csv").read_text().splitlines()[1].endswith(",0,0,0")
+
+
+def test_a_tie_for_the_lowest_umin_is_one_answer_in_the_result():
+    """(2026-12-06, a review) two tilts tying for the lowest U_min: the CLI said 'no single minimum' and showed
+    no parabola, while result.json gave best_tilt 10 and a parabola vertex at 15 deg. The result now says
+    which tilts tie and fits no parabola through a tie; a strict minimum is fitted as before."""
+    from optimize.sweep import assemble
+
+    spec = make_spec("umin", tilts=[5.0, 10.0, 20.0, 30.0], iterations=3)
+    chunk = {"umin": [3.31, 2.38, 2.38, 2.85], "bounces_at_high": [1] * 4, "bounces_at_low": [0] * 4,
+             "diverged": [0] * 4, "cut_off": [0] * 4, "monotone": [1] * 4}
+    r = assemble(spec, [chunk])
+    assert r["tied_tilts"] == [10.0, 20.0] and r["best_tilt_fit"] is None and r["best_umin_fit"] is None
+    r = assemble(spec, [dict(chunk, umin=[3.31, 2.38, 2.30, 2.85])])
+    assert r["tied_tilts"] == [] and 10.0 < r["best_tilt_fit"] < 30.0
