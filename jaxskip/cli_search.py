@@ -86,8 +86,9 @@ def add_parsers(sub, ranges: bool = True) -> None:
     _only(o, METHOD_FLAGS, "--objective", "what the gradient search ascends (default bounces: the smooth count)",
           choices=("bounces", "distance"))
     _only(o, METHOD_FLAGS, "--starts", f"random starts, in {span('starts')} (default 8)", type=_int, metavar="N")
-    _only(o, METHOD_FLAGS, "--iterations", f"optimiser steps, in {span('iterations')} (default 20)", type=_int,
-          metavar="N")
+    _only(o, METHOD_FLAGS, "--iterations", f"gradient: N Adam steps (N + 1 exact evaluations of the starts); "
+          f"perturbation: N evaluations of the centres, N - 1 steps between them; in {span('iterations')} (default 20)",
+          type=_int, metavar="N")
     _only(o, METHOD_FLAGS, "--learning-rate", f"Adam step in the unconstrained coordinates [-], in (0, {MAX_STEP:g}] (default 0.3)",
           type=_float, metavar="LR")
     _only(o, METHOD_FLAGS, "--polish", f"exact throws sampled near the best throws found, after the ascent, in "
@@ -256,6 +257,10 @@ def run_optimize(args) -> int:
                 if r.objective == "distance" else f"best {plural(r.best_bounces, 'bounce')} ({r.best_distance:.2f} m)")
         _say(f"{r.method} search: {what} at speed {b['speed']:.2f} m/s, tilt "
              f"{b['tilt']:.1f} deg, attack {b['attack']:.1f} deg, spin {b['spin']:.1f} rev/s")
+        if r.best_cut_off:
+            limits = _limits({"config": {"duration": config.duration, "max_steps": config.max_steps}})
+            _say(f"  note: that throw was still in play when the run stopped it at {limits}: its count and distance "
+                 "are lower bounds (raise them)")
         _say(f"cost: {r.forward_throws} exact throws, {r.gradient_evals} gradient evaluations, "
              f"{r.wall_time:.1f} s wall")
         _say(f"to throw it again: {command}")

@@ -39,6 +39,7 @@ import numbers
 import os
 import sys
 import time
+import warnings
 from collections.abc import Mapping
 
 import jax
@@ -46,6 +47,7 @@ import numpy as np
 import optax
 
 from jaxskip import SimConfig, WaterParams, water_params
+from jaxskip.simulate import AccuracyWarning
 from jaxskip._arrays import float_array, float_leaves
 from jaxskip._docs import document_fields
 from jaxskip._files import check_picture_path, writing
@@ -86,7 +88,8 @@ class SearchResult:
     ``"phase"`` (``"polish"``: a polish's entry and a local search's); ``"count_histogram"`` (grid,
     random: throws per true bounce count, indexed by the count); ``"screen"`` (a gradient search's first
     entry, with ``screen=N``: the N screened throws' ``"points"`` and true ``"bounces"``); ``"diverged"``
-    (grid, random: the throws that diverged). A throw that diverged is listed with
+    (grid, random: the throws that diverged); ``"cut_off"`` (grid, random: the throws stopped while in play at
+    the duration or step limit; local, a polish: 1 or 0 per throw). A throw that diverged is listed with
     :data:`DIVERGED_SCORE` (-1) as its count and distance (see ``diverged``)."""
     box: Box
     """The search's bounds (:class:`optimize.bounds.Box`, user units)."""
@@ -114,6 +117,12 @@ class SearchResult:
     :data:`DIVERGED_SCORE` (-1 bounces, -1 m), they are never the best, and the search issues one
     :class:`jaxskip.DivergedWarning` for them."""
 
+    cut_off: int = 0
+    """Exact throws still in play when the run stopped them at ``config.duration`` or ``config.max_steps``
+    (outcome ``"time_limit"`` or ``"step_limit"``): their counts and distances are lower bounds, and the search
+    issues one :class:`jaxskip.AccuracyWarning` for them (raise the limits)."""
+    best_cut_off: bool = False
+    """True when the best throw is one of those: ``best_bounces`` and ``best_distance`` are lower bounds."""
     settings: dict = dataclasses.field(default_factory=dict)
     """What the search was run with, JSON-ready, so that it can be run again: every argument of the search
     function as resolved (defaults included; ``seed``, ``starts``, ``iterations``, ``learning_rate``, ...,
@@ -129,7 +138,7 @@ class SearchResult:
                 "history": self.history, "box": self.box.to_dict(), "wall_time": self.wall_time,
                 "forward_throws": self.forward_throws, "gradient_evals": self.gradient_evals,
                 "gradient_time": self.gradient_time, "compile_time": self.compile_time, "diverged": self.diverged,
-                "settings": self.settings}
+                "cut_off": self.cut_off, "best_cut_off": self.best_cut_off, "settings": self.settings}
 
 
 def _plain(value):
@@ -248,20 +257,24 @@ def _full(box: Box, values: dict) -> dict:
 #: The count and distance [m] a search gives a throw that diverged (outcome ``"diverged"``: its own count and
 #: distance mean nothing): below every true value, so such a throw is never the best, and marked in the history.
 DIVERGED_SCORE = -1
+#: Outcomes of an exact throw still in play when the run stopped it (its count and distance are lower bounds).
+CUT_OFF = ("time_limit", "step_limit")
 
 
 def _exact(box: Box, values: dict, stone, config: SimConfig, lanes: int | None = None,
            progress: bool = False, water=None) -> tuple[np.ndarray, np.ndarray]:
     """Exact bounce counts and distances [m] of the throws ``values`` (user units), lane-pooled
     (:func:`jaxskip.simulate_batch`; ``water`` None: the force law's constants); a throw that diverged gets
-    :data:`DIVERGED_SCORE` for both. The batch's own accuracy and divergence warnings are silenced: the
-    search issues them once (:func:`_warn_stability`, :meth:`_Best.warn`)."""
+    :data:`DIVERGED_SCORE` for both. Also a mask of the throws still in play when the run stopped them
+    (:data:`CUT_OFF` outcomes: lower bounds). The batch's own accuracy and divergence warnings are silenced:
+    the search issues them once (:func:`_warn_stability`, :meth:`_Best.warn`)."""
     throws = box.throws_from_user(values)
     with silenced_batches(coarse=True):  # (the coarse dt: checked_config warned already)
         r, failed = batch(throws, stone, water=water, config=dataclasses.replace(config, record=False), lanes=lanes,
                           progress=progress)
     return (np.where(failed, DIVERGED_SCORE, r.bounces),
-            np.where(failed, float(DIVERGED_SCORE), np.asarray(r.distance, dtype=float)))
+            np.where(failed, float(DIVERGED_SCORE), np.asarray(r.distance, dtype=float)),
+            np.isin(r.outcome_names, CUT_OFF) & ~np.asarray(failed))
 
 
 def _warn_stability(box: Box, rigid, config: SimConfig, water) -> None:
@@ -289,19 +302,31 @@ class _Best:
     def __init__(self, box: Box, objective: str):
         self.box, self.objective = box, objective
         self.score, self.throw, self.bounces, self.distance = -np.inf, None, -1, None
-        self.seen, self.diverged = 0, 0
+        self.seen, self.diverged, self.cut_off, self.best_cut = 0, 0, 0, False
 
-    def update(self, values: dict, counts, distances) -> None:
+    def update(self, values: dict, counts, distances, cut) -> None:
+        """Take in exact throws: ``counts``, ``distances`` [m] and ``cut`` (True: stopped while in play) of
+        the throws ``values``."""
         score = np.asarray(counts if self.objective == "bounces" else distances, dtype=float).ravel()
         failed = np.asarray(counts).ravel() < 0  # DIVERGED_SCORE
+        cut = np.asarray(cut, dtype=bool).ravel()
         self.seen += failed.size
         self.diverged += int(failed.sum())
+        self.cut_off += int(cut.sum())
         score = np.where(failed, -np.inf, score)
         i = int(np.argmax(score))
         if score[i] > self.score:
             self.score = float(score[i])
             self.throw = _full(self.box, {k: np.ravel(v)[i] for k, v in values.items()})
             self.bounces, self.distance = int(np.ravel(counts)[i]), float(np.ravel(distances)[i])
+            self.best_cut = bool(cut[i])
+
+    def result(self, method: str, history: list, t0: float, forward: int, **more) -> "SearchResult":
+        """The :class:`SearchResult` of a search that started at ``t0`` (``time.perf_counter``) and ran
+        ``forward`` exact throws; ``more``: its other fields."""
+        return SearchResult(method, self.throw, self.bounces, history, self.box, time.perf_counter() - t0, forward,
+                            more.pop("gradient_evals", 0), best_distance=self.distance, diverged=self.diverged,
+                            cut_off=self.cut_off, best_cut_off=self.best_cut, **more)
 
     def warn(self, what: str, config: SimConfig) -> None:
         """One :class:`jaxskip.DivergedWarning` for the search, if any of its exact throws diverged; a
@@ -312,6 +337,12 @@ class _Best:
                                  "take a smaller dt")
         warn_diverged(self.diverged, self.seen, what, f"they score {DIVERGED_SCORE} bounces and {DIVERGED_SCORE} m "
                       "in its history and are never its best", config, stacklevel=3)
+        if self.cut_off:   # (a search at --duration 0.3 reported a best count one short, in silence)
+            warnings.warn(f"{self.cut_off} of the {self.seen} exact throws of this {what} were still in play when the "
+                          f"run stopped them at duration={config.duration:g} s or max_steps={config.max_steps}: their "
+                          f"counts and distances are lower bounds"
+                          + (", the best throw's among them" if self.best_cut else "")
+                          + "; raise them (--duration, --max-steps in the CLI)", AccuracyWarning, stacklevel=3)
 
 
 def _as_box(box) -> Box:
@@ -464,9 +495,9 @@ def gradient_search(box: Box | None = None, *, objective: str = "bounces", stone
     screened = None
     if screen:
         pool = _random_points(box, screen, rng)
-        counts, dists = _exact(box, pool, rigid, config, water=water)
+        counts, dists, cut = _exact(box, pool, rigid, config, water=water)
         forward += screen
-        best.update(pool, counts, dists)
+        best.update(pool, counts, dists, cut)
         order = np.argsort(-(dists if objective == "distance" else counts), kind="stable")[:starts]
         points = {k: np.asarray(v)[order] for k, v in pool.items()}
         screened = {"points": {k: np.asarray(v, dtype=float).tolist() for k, v in pool.items()},
@@ -496,9 +527,9 @@ def gradient_search(box: Box | None = None, *, objective: str = "bounces", stone
     line = ProgressLine()
     for it in range(iterations + 1):
         values = box.to_user(np.asarray(u))
-        counts, dists = _exact(box, values, rigid, config, water=water)
+        counts, dists, cut = _exact(box, values, rigid, config, water=water)
         forward += starts
-        best.update(values, counts, dists)
+        best.update(values, counts, dists, cut)
         points = {k: np.asarray(v, dtype=float).tolist() for k, v in values.items()}
         exact = {"bounces": counts.tolist(), **({"distance": dists.tolist()} if objective == "distance" else {})}
         if it == iterations:
@@ -528,8 +559,8 @@ def gradient_search(box: Box | None = None, *, objective: str = "bounces", stone
         forward += _polish(box, history, POLISH_CENTRES, polish, polish_scale, rigid, config, water, seed, progress,
                            best, iterations + 1)
     best.warn("gradient search", config)
-    return SearchResult("gradient", best.throw, best.bounces, history, box, time.perf_counter() - t0, forward,
-                        starts * iterations, t_grad, t_compile, best.distance, objective, best.diverged)
+    return best.result("gradient", history, t0, forward, gradient_evals=starts * iterations, gradient_time=t_grad,
+                       compile_time=t_compile, objective=objective)
 
 
 def _polish(box, visited, k, throws, scale, rigid, config, water, seed, progress, best: _Best, iteration) -> int:
@@ -541,7 +572,7 @@ def _polish(box, visited, k, throws, scale, rigid, config, water, seed, progress
         local = local_search(box, top_throws(visited, k, best.objective), throws=throws, scale=scale, stone=rigid,
                              config=config, water=water, seed=seed, objective=best.objective, progress=progress)
     entry = local.history[0]
-    best.update(entry["points"], entry["bounces"], entry["distance"])
+    best.update(entry["points"], entry["bounces"], entry["distance"], entry["cut_off"])
     if best.objective == "bounces":
         entry = {k: v for k, v in entry.items() if k != "distance"}
     visited.append(dict(entry, iteration=iteration, best=best.bounces))
@@ -654,15 +685,14 @@ def local_search(box: Box, centres: dict, *, throws: int = 256, scale: float = 0
     rigid, _ = resolve_stone(stone)
     water = None if water is None else checked_water(water)
     _warn_stability(box, rigid, config, water)
-    counts, dists = _exact(box, values, rigid, config, lanes, progress, water)
+    counts, dists, cut = _exact(box, values, rigid, config, lanes, progress, water)
     best = _Best(box, objective)
-    best.update(values, counts, dists)
+    best.update(values, counts, dists, cut)
     best.warn("local search", config)
     hist = [{"iteration": 0, "phase": "polish", "bounces": counts.tolist(), "distance": dists.tolist(),
-             "objective": None, "best": best.bounces, "nonfinite": 0,
+             "cut_off": cut.astype(int).tolist(), "objective": None, "best": best.bounces, "nonfinite": 0,
              "points": {k: v.tolist() for k, v in values.items()}}]
-    return SearchResult("local", best.throw, best.bounces, hist, box, time.perf_counter() - t0, n, 0,
-                        best_distance=best.distance, objective=objective, diverged=best.diverged)
+    return best.result("local", hist, t0, n, objective=objective)
 
 
 def _starts_sharding(starts: int):
@@ -799,10 +829,10 @@ def perturbation_search(box: Box | None = None, *, stone="paper", config: SimCon
         eps = rng.standard_normal((starts, samples, p))
         pts = np.concatenate([u[:, None, :] + sigma * eps, u[:, None, :] - sigma * eps, u[:, None, :]], axis=1)
         values = box.to_user(pts.reshape(-1, p))
-        counts, dists = _exact(box, values, rigid, config, water=water)
+        counts, dists, cut = _exact(box, values, rigid, config, water=water)
         counts = counts.reshape(starts, 2 * samples + 1)
         forward += counts.size
-        best.update(values, counts, dists)
+        best.update(values, counts, dists, cut)
         best_n = best.bounces
         visited.append({"bounces": counts.ravel().tolist(), "points": {k: v.tolist() for k, v in values.items()}})
         scored = np.maximum(counts, 0)  # a diverged throw (DIVERGED_SCORE) counts as no bounce in the estimate
@@ -823,8 +853,7 @@ def perturbation_search(box: Box | None = None, *, stone="paper", config: SimCon
                            best, iterations)
         history.append(visited[-1])
     best.warn("perturbation search", config)
-    return SearchResult("perturbation", best.throw, best.bounces, history, box, time.perf_counter() - t0, forward, 0,
-                        best_distance=best.distance, diverged=best.diverged)
+    return best.result("perturbation", history, t0, forward)
 
 
 def grid_points(box: Box, per_axis: int) -> dict:
@@ -846,16 +875,15 @@ def _exhaustive(method: str, box: Box, values: dict, stone, config: SimConfig, l
     rigid, _ = resolve_stone(stone)
     water = None if water is None else checked_water(water)
     _warn_stability(box, rigid, config, water)
-    counts, dists = _exact(box, values, rigid, config, lanes, progress, water)
+    counts, dists, cut = _exact(box, values, rigid, config, lanes, progress, water)
     best = _Best(box, "bounces")
-    best.update(values, counts, dists)
+    best.update(values, counts, dists, cut)
     best.warn(f"{method} search", config)
     # (the histogram of the true counts: a diverged throw has none)
     hist = [{"iteration": 0, "bounces": [best.bounces], "objective": None, "best": best.bounces,
              "nonfinite": 0, "count_histogram": np.bincount(counts[counts >= 0], minlength=1).tolist(),
-             "diverged": int(np.sum(counts < 0))}]
-    return SearchResult(method, best.throw, best.bounces, hist, box, time.perf_counter() - t0, int(counts.size), 0,
-                        best_distance=best.distance, diverged=best.diverged)
+             "diverged": int(np.sum(counts < 0)), "cut_off": int(np.sum(cut))}]
+    return best.result(method, hist, t0, int(counts.size))
 
 
 @_recorded

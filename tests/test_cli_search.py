@@ -443,7 +443,7 @@ def test_count_flags_show_the_ranges_that_are_checked(capsys):
     """Every count flag's help gives its valid range, from the constants the searches and sweeps check (not
     copied by hand): a value just outside it is refused naming the flag."""
     text = _help(["optimize"], capsys)
-    for shown in ("random starts, in [1, 4096] (default 8)", "optimiser steps, in [1, 10^5] (default 20)",
+    for shown in ("random starts, in [1, 4096] (default 8)", "gradient: N Adam steps (N + 1 exact evaluations of the starts); perturbation: N evaluations of the centres, N - 1 steps between them; in [1, 10^5] (default 20)",
                   "Adam step in the unconstrained coordinates [-], in (0, 10] (default 0.3)",
                   "after the ascent, in [0, 10^8] (default 256; 0: none)",
                   "per start and iteration, in [1, 4096] (default 8)",

@@ -3,6 +3,7 @@
 import dataclasses
 import functools
 import math
+import warnings
 
 import jax
 import jax.numpy as jnp
@@ -11,7 +12,7 @@ import pytest
 
 from jaxskip import ParameterError, SimConfig, Throw, rollout, simulate_batch
 from optimize import (EXPLODING, VANISHING, gradient_health, gradient_search, local_search, make_box,
-                      make_objective, perturbation_search, top_throws)
+                      make_objective, perturbation_search, random_search, top_throws)
 from optimize import search as search_module
 from optimize.search import SearchResult
 from optimize.objectives import soft_bounce_count, soft_bounce_rollout
@@ -660,3 +661,20 @@ def test_perturbation_search_takes_no_step_it_never_simulates(monkeypatch):
                                      config=SimConfig(duration=0.1, max_steps=400), starts=2, iterations=3, samples=1)
     assert len(calls) == 2 and len(r.history) == 3
     assert list(r.best) == ["speed", "tilt", "attack", "spin"]   # (the held ones came first)
+
+
+def test_a_search_says_when_its_throws_were_stopped_in_play():
+    """(2026-12-06, a review) a random search at a duration of 0.3 s reported 11 bounces (12 with the default
+    duration) and no warning; with max_steps 3, 'best 0 bounces'. Now the result counts the throws stopped in
+    play (cut_off), says whether the best is one of them, and the search warns once."""
+    from jaxskip import AccuracyWarning
+
+    with pytest.warns(AccuracyWarning, match=r"of the 8 exact throws of this random search were still in play when "
+                                             r"the run stopped them at duration=0.3 s .*lower bounds, the best throw's"):
+        r = random_search(throws=8, config=SimConfig(duration=0.3), seed=0)
+    assert r.cut_off >= 1 and r.best_cut_off and r.to_dict()["cut_off"] == r.cut_off
+    assert r.history[0]["cut_off"] == r.cut_off
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", AccuracyWarning)      # (the default duration: nothing cut off here)
+        full = random_search(throws=8, seed=0)
+    assert full.cut_off == 0 and not full.best_cut_off and full.best_bounces >= r.best_bounces
