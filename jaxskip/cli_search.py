@@ -150,8 +150,12 @@ def flag_names(args) -> dict:
 
 def _check_used(args, label: str, choice: str, table: dict) -> None:
     for dest, users in table.items():
-        if getattr(args, dest, None) is not None and choice not in users:
-            raise ParameterError(f"--{dest.replace('_', '-')} is not used by {label} (only by {', '.join(users)})")
+        value = getattr(args, dest, None)
+        if value is not None and choice not in users:
+            flag = f"--{dest.replace('_', '-')}"
+            if value is False:   # (a BooleanOptionalAction given as --no-NAME: name the flag the user typed)
+                flag = f"--no-{dest.replace('_', '-')}"
+            raise ParameterError(f"{flag} is not used by {label} (only by {', '.join(users)})")
 
 
 def _values(text: str, name: str) -> list:
@@ -246,6 +250,8 @@ def run_optimize(args) -> int:
         out["throw_command_bounces"], out["throw_command_distance"] = single.bounces, single.distance
         if health is not None:
             out["gradient_norms"] = health
+        # the stone as the user named it (the search was given the loaded RigidStone, which has no name)
+        out["settings"] = {**out["settings"], "stone": str(values["stone"])}
         out["config"] = describe(values["stone"], config, water, rigid)
         out["environment"] = environment()
         if args.plot:
@@ -364,7 +370,9 @@ def run_sweep_command(args) -> int:
                        f"shards below {n_chunks}); a smaller --chunk-size cuts it into more")
             no_plot = "no picture: the sweep is not complete here (give --plot to the merge)"
             if args.json:
-                print_json({"complete": False, "out": args.out, **({"plot": None} if args.plot else {})}, args)
+                print_json({"complete": False, "out": args.out, "shard_index": shard, "num_shards": shards,
+                            "chunks": n_chunks, "chunks_of_this_shard": len(range(shard, n_chunks, shards)),
+                            **({"plot": None} if args.plot else {})}, args)
                 if args.plot:
                     print(f"jaxskip: note: {no_plot}", file=sys.stderr)
             else:
@@ -375,7 +383,8 @@ def run_sweep_command(args) -> int:
     if args.json:
         # (a merge joins chunks computed elsewhere: the environment here says nothing about them)
         here = {} if args.kind == "merge" else {"environment": environment()}
-        print_json({"complete": True, **result, **({"plot": args.plot} if args.plot else {}), **here}, args)
+        print_json({"complete": True, **({"out": args.out} if args.out else {}), **result,
+                    **({"plot": args.plot} if args.plot else {}), **here}, args)
         return 0
     spec = result["spec"]
     if spec["kind"] == "umin":

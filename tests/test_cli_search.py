@@ -240,7 +240,8 @@ def test_default_sweep_is_sharded(tmp_path, capsys):
     for i in (0, 1):
         assert main(argv + ["--out", str(tmp_path / f"s{i}"), "--shard-index", str(i), "--num-shards", "2"]) == 0
         assert json.loads(capsys.readouterr().out) == {"complete": False, "out": str(tmp_path / f"s{i}"),
-                                                          "warnings": []}
+                                                          "shard_index": i, "num_shards": 2, "chunks": 2,
+                                                          "chunks_of_this_shard": 1, "warnings": []}
         assert [p.name for p in (tmp_path / f"s{i}").glob("chunk-*.json")] == [f"chunk-0000{i}.json"]
     assert main(["sweep", "merge", str(tmp_path / "s0"), str(tmp_path / "s1"), "--out", str(tmp_path / "m"),
                  "--json"]) == 0
@@ -249,6 +250,7 @@ def test_default_sweep_is_sharded(tmp_path, capsys):
     direct = json.loads(capsys.readouterr().out)
     # the same results; only the run that computed them reports its environment (a merge did not compute)
     assert "environment" not in merged and direct.pop("environment")["float64"] is True
+    assert merged.pop("out") == str(tmp_path / "m")   # (the direct run here kept no folder)
     assert direct == merged and merged["umin"][1] is not None
 
 
@@ -267,7 +269,7 @@ def test_a_logged_sweep_shows_its_progress_with_the_flag(tmp_path, monkeypatch, 
     assert main(argv + ["--progress"]) == 0
     err = capsys.readouterr().err
     assert "\r" not in err and "1/1" in err
-    assert main(["sweep", "merge", str(tmp_path / "s"), "--out", str(tmp_path / "m"), "--no-progress"]) == 2
+    assert main(["sweep", "merge", str(tmp_path / "s"), "--out", str(tmp_path / "m"), "--progress"]) == 2
     assert "--progress is not used by sweep merge" in capsys.readouterr().err
 
 
@@ -380,7 +382,8 @@ def test_a_shard_that_leaves_the_sweep_incomplete_says_there_is_no_picture(tmp_p
     assert "no picture: the sweep is not complete here" in capsys.readouterr().out
     assert main(argv + ["--json"]) == 0
     out, err = capsys.readouterr()
-    assert json.loads(out) == {"complete": False, "out": str(tmp_path / "s"), "plot": None, "warnings": []}
+    assert json.loads(out) == {"complete": False, "out": str(tmp_path / "s"), "shard_index": 0, "num_shards": 2,
+                               "chunks": 2, "chunks_of_this_shard": 1, "plot": None, "warnings": []}
     assert "no picture" in err and not (tmp_path / "s.png").exists()
 
 
@@ -468,7 +471,8 @@ def test_count_flags_show_the_ranges_that_are_checked(capsys):
             (["optimize", "--method", "grid", "--per-axis", "1"], "--per-axis must be an integer in [2, 10000]"),
             (["optimize", "--method", "random", "--throws", "0"], "--throws must be an integer in [1, 100000000]"),
             (["optimize", "--learning-rate", "0"], "--learning-rate must be in (0, 10], got 0.0"),
-            (["optimize", "--horizon", "5001", "--max-steps", "5000"], "--horizon must be an integer in [1, 5000]"),
+            (["optimize", "--horizon", "5001", "--max-steps", "5000"], "--horizon must be at most the step budget, 5000 "
+                                                                      "steps"),
             (["sweep", "umin", "--iterations", str(MAX_BISECTIONS + 1)], "--iterations must be an integer in [1, 40]"),
             (["sweep", "umin", "--chunk-size", "0"], "--chunk-size must be an integer >= 1"),
             (["sweep", "umin", "--out", "x", "--num-shards", "2", "--shard-index", "2"],
@@ -523,3 +527,24 @@ def test_sweep_says_which_answers_the_duration_cut_off(tmp_path, capsys):
     assert main(["sweep", "domain", "--tilts", "20", "--attacks", "20", "--duration", "0.05"]) == 0
     out = capsys.readouterr().out
     assert "1 still skipping when --duration 0.05 s or --max-steps 250 stopped them (their counts are lower" in out, out
+
+
+def test_review_nits_of_the_search_commands(tmp_path, capsys):
+    """(2026-12-06, a review) --no-progress on a merge was named --progress; --horizon beyond the step budget
+    named a range without saying where its top came from; optimize --json recorded the stone as 'a RigidStone
+    of 0.120663 kg'; a shard's JSON did not say which shard it was, a complete sweep's not where it was."""
+    assert main(["sweep", "merge", str(tmp_path / "a"), "--out", str(tmp_path / "m"), "--no-progress"]) == 2
+    assert "--no-progress is not used by sweep merge" in capsys.readouterr().err
+    assert main(["optimize", "--horizon", "99999", "--duration", "0.5"]) == 2
+    assert ("--horizon must be at most the step budget, 2250 steps (config.max_steps, --max-steps in the CLI; 0.5 s "
+            "at dt 0.00025 s), got 99999") in capsys.readouterr().err
+    assert main(["optimize", "--method", "random", "--throws", "2", "--duration", "0.2", "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["settings"]["stone"] == "paper"
+    argv = ["sweep", "umin", "--tilts", "10,20", "--iterations", "1", "--duration", "0.5", "--chunk-size", "1", "--json"]
+    assert main([*argv, "--out", str(tmp_path / "p1"), "--shard-index", "1", "--num-shards", "2"]) == 0
+    shard = json.loads(capsys.readouterr().out)
+    assert (shard["complete"], shard["shard_index"], shard["num_shards"], shard["chunks"],
+            shard["chunks_of_this_shard"]) == (False, 1, 2, 2, 1)
+    assert main([*argv, "--out", str(tmp_path / "whole")]) == 0
+    whole = json.loads(capsys.readouterr().out)
+    assert whole["complete"] and whole["out"] == str(tmp_path / "whole")
