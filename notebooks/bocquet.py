@@ -45,9 +45,10 @@ print(f"Clanet disk: {float(disk.mass) * 1e3:.1f} g, R = {float(disk.radius) * 1
 
 # %% [markdown]
 # ## 1. Bounce count against speed: N ∝ V² at grazing incidence
-# Each contact costs about μ M g L of kinetic energy (L, the collision length, does not depend on
-# speed), so N ≈ V²/(2 μ g L). At steeper incidence each impact also loses μ·2v_z of speed and the
-# growth is slower.
+# A contact entered at grazing incidence lasts a whole period of the immersed oscillation (a length
+# 2L; L, the collision length, does not depend on speed) and costs 2 μ M g L of kinetic energy, the
+# least any contact costs, so N ≲ V²/(4 μ g L) (physics.md's V²/(2 μ g L) counts a contact of length L).
+# At steeper incidence each impact also loses μ·2v_z of speed and the growth is slower.
 
 # %%
 speeds = np.array([4.0, 6.0, 9.0, 12.0]) if QUICK else np.linspace(4.0, 14.0, 11)
