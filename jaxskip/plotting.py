@@ -107,7 +107,7 @@ def plot_throw(result, path=None, *, ax=None):
     if wet.any():
         top.plot(np.where(wet, x, np.nan), np.where(wet, y * 100, np.nan), color="#d1495b", lw=2.5)
     top.set_ylabel("sideways [cm]\n(+: left)")
-    top.set_xlabel("downrange x [m]")
+    top.set_xlabel("downrange [m] (along the heading)")
     top.set_xlim(*xlim)
     # A throw that keeps its line (a held attitude) drifts by rounding alone: show at least ±1 cm, in
     # plain numbers, not a 1e-15 axis that draws the noise as a drift.
@@ -379,7 +379,7 @@ def animate_throw(result, stone, path, *, fps: int = 20):
         side.plot(_throw_frame(np.asarray(position)[None], heading)[0], [position[2] * 100], "o", color="#d1495b")
         side.set_xlim(*_downrange_limits(down))
         side.set_ylim(min(-2.0, pos[:, 2].min() * 100 - 0.5), max(pos[:, 2].max() * 115, 2.0))
-        side.set_xlabel("downrange x [m]")
+        side.set_xlabel("downrange [m] (along the heading)")
         side.set_ylabel("centre of mass height [cm]")
         side.set_title(f"the whole throw: {_bounces(result.bounces)}, {result.outcome.replace('_', ' ')} "
                        f"(red: in contact)", fontsize=9)
