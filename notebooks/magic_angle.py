@@ -48,7 +48,8 @@ for attitude in ("fixed", "free"):
         coarse = r
     print(f"{attitude:<5} (Bocquet law): U_min = " + ", ".join(f"{t:g}°: {u:.2f}" for t, u in zip(tilts,
                                                                                                umin[attitude]))
-          + f" m/s; lowest at {r['best_tilt']:g}° ({r['best_umin']:.2f} m/s)")
+          + (f" m/s; lowest at {r['best_tilt']:g}° ({r['best_umin']:.2f} m/s)" if not r["tied_tilts"] else
+             f" m/s; lowest at {', '.join(f'{t:g}' for t in r['tied_tilts'])}° (a tie at {r['best_umin']:.2f} m/s)"))
 
 # The magic angle between grid points (tilt held): a finer sweep around the coarse minimum, and the
 # vertex of the parabola through its lowest point and that point's neighbours.
@@ -97,12 +98,14 @@ res = coarse["resolution"]
 top_speed = coarse["spec"]["speed_range"][1]   # (the seed law's grid ends there too)
 for key, style, text in (("fixed", "o-", "Bocquet law, tilt held"),
                          ("free", "s--", "Bocquet law, free body at 65 rev/s"),
-                         ("seed", "^:", f"seed law, tilt held (speeds every {speeds[1] - speeds[0]:.2g} m/s)")):
+                         ("seed", "^:", f"seed law, tilt held (speeds every {speeds[1] - speeds[0]:.3g} m/s)")):
     line, = ax[0].plot(tilts, umin[key], style, label=text)
     if key != "seed":
         ax[0].fill_between(tilts, umin[key] - res, umin[key], color=line.get_color(), alpha=0.2, lw=0)
     none = np.isnan(umin[key])   # no bounce up to the top of the speed range
-    ax[0].plot(np.asarray(tilts)[none], np.full(none.sum(), top_speed), "x", color=line.get_color(), ms=8)
+    # (the curves' crosses sit at one height: each a little apart, or the last drawn hides the others)
+    lift = {"fixed": 0.0, "free": 0.35, "seed": 0.7}[key]
+    ax[0].plot(np.asarray(tilts)[none], np.full(none.sum(), top_speed + lift), "x", color=line.get_color(), ms=8)
     if key == "free":
         ax[0].fill_between([], [], [], color="0.5", alpha=0.3, lw=0,
                            label=f"shaded: bisection bracket (U_min − {res:.2g}, U_min]")
