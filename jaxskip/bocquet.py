@@ -190,7 +190,11 @@ def immersed_area(stone: ReducedStone, depth, tilt):
     u = 1.0 - jnp.clip(s, 0.0, 2.0 * R) / R             # in [-1, 1]
     inner = jnp.clip(1.0 - u * u, 0.0, 1.0)
     root = jnp.where(inner > 0, jnp.sqrt(jnp.where(inner > 0, inner, 1.0)), 0.0)
-    return R * R * (jnp.arccos(jnp.clip(u, -1.0, 1.0)) - u * root)
+    # arccos has an infinite slope at ±1 (dry, and wholly wet), where every contact starts: a double where,
+    # or every gradient of a disk's throw was NaN (the area's own slope there is 0)
+    edge = (u <= -1.0) | (u >= 1.0)
+    angle = jnp.where(edge, jnp.where(u <= -1.0, math.pi, 0.0), jnp.arccos(jnp.where(edge, 0.0, u)))
+    return R * R * (angle - u * root)
 
 
 def coefficients(tilt, c_lift=1.0, c_friction=1.0):
@@ -349,7 +353,7 @@ def _throw(speed, tilt, attack, stone, c_lift, c_friction, rho, g, dt, contact_s
     def one(carry, _):
         vx, vz, alive, n, dist = carry
         vx1, vz1, t, x, ix, iz, left = contact(vx, vz)
-        nan = jnp.nan * vx
+        nan = jnp.full_like(vx, jnp.nan)   # (not nan * vx: its zero cotangent times NaN made every gradient NaN)
         row = (jnp.where(alive, t, nan), jnp.where(alive, x, nan), jnp.where(alive, vx, nan),
                jnp.where(alive, ix, nan), jnp.where(alive, iz, nan))
         bounced = alive & left

@@ -384,7 +384,9 @@ def rollout_coupled(config: SimConfig, grid: WaterGrid, throw: Throw, stone: Rig
 
     Returns ``(state, tracker, records, field)``: as :func:`jaxskip.rollout`, plus
     the final :class:`Field` (the window's water and its offset). The water
-    starts still. ``water_dt`` and ``two_way`` as in :func:`make_coupled_step`.
+    starts still. ``water_dt`` and ``two_way`` as in :func:`make_coupled_step`. The window's own ``gravity``
+    and ``rho`` are static fields of ``grid`` (checked equal to ``water``'s when concrete): a gradient with
+    respect to ``water.rho_water`` or ``water.gravity`` moves the stone's forces only, not the water's.
     """
     _check_config(config)
     _check_grid(grid)

@@ -1064,7 +1064,10 @@ def rollout(config: SimConfig, throw: Throw, stone: RigidStone, water: WaterPara
     Returns ``(state, tracker, records)``: the final :class:`StoneState`, the
     :class:`Tracker` and, if ``config.record``, a :class:`Record` with a leading
     axis of ``max_steps`` (else ``None``). A stone still in play when the steps
-    run out gets outcome ``step_limit``.
+    run out gets outcome ``step_limit``. Its final state is then taken after a number of steps, not at a
+    time, so its gradients also carry the step schedule (the flight jumps' lengths, which depend on
+    ``stone.radius`` and the state): differentiate a state at a fixed time through a run that ends by
+    ``config.duration`` or by the stone leaving play.
 
     Floating leaves of ``throw``, ``stone`` and ``water`` are cast to JAX's float type (float32, or float64
     under ``jax_enable_x64``), in which the step computes.

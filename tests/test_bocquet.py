@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from jaxskip import ParameterError, SimConfig, Throw, clanet_disk, rigid_stone, rollout_jit, water_params
-from jaxskip.bocquet import ReducedStone, collision_length, estimated_bounces, reduced_throw
+from jaxskip.bocquet import ReducedStone, collision_length, estimated_bounces, immersed_area, reduced_throw
 
 
 @pytest.mark.parametrize("speed,tilt,attack", [(2.5, 20, 20), (3.5, 20, 20), (5.0, 20, 10), (8.0, 20, 5),
@@ -226,3 +226,24 @@ def test_a_grazing_contact_lasts_a_period_and_bounds_the_count():
     assert costs[0] == pytest.approx(2.0, rel=0.05) and costs[0] < costs[1] < costs[2], costs
     assert float(reduced_throw(12.0, th, math.radians(0.05)).contact_length[0]) > 1.6 * L
     assert estimated_bounces(12.0, st, th) == pytest.approx(39.5, abs=0.05)
+
+
+def test_reduced_gradients_match_finite_differences_for_the_disk_and_per_contact_outputs():
+    """(2026-12-06, a review) every gradient of a disk's reduced throw was NaN (arccos's infinite slope at the
+    dry edge, where each contact starts), and for the square the reverse-mode gradient of any per-contact
+    output (vx_in, contact_time, ...) was NaN (its NaN filler was NaN * vx: a zero cotangent times NaN)."""
+    th, at = math.radians(15.0), math.radians(3.0)
+    disk = ReducedStone("disk", 0.025, 0.0135)
+    cases = [(lambda v: reduced_throw(v, th, at, stone=disk, max_contacts=8).distance, 6.0),
+             (lambda v: reduced_throw(v, th, at, max_contacts=8).vx_in[1], 6.0),
+             (lambda v: reduced_throw(v, th, at, max_contacts=8).contact_length[0], 6.0)]
+    for f, v in cases:
+        grad = float(jax.grad(f)(v))
+        fd = (float(f(v + 1e-6)) - float(f(v - 1e-6))) / 2e-6
+        assert math.isfinite(grad) and grad == pytest.approx(fd, rel=1e-4, abs=1e-9), (grad, fd)
+        assert float(jax.jvp(f, (v,), (1.0,))[1]) == pytest.approx(grad, rel=1e-9)
+    # the segment area's slope at the dry and wholly wet ends: finite (0 at the dry end)
+    d_depth, _ = jax.grad(lambda z, t: immersed_area(disk, z, t), argnums=(0, 1))(0.0, 0.3)
+    assert float(d_depth) == 0.0
+    assert all(math.isfinite(float(g)) for g in jax.grad(lambda z, t: immersed_area(disk, z, t), argnums=(0, 1))(
+        2.0 * 0.025 * math.sin(0.3), 0.3))
