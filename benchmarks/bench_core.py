@@ -70,7 +70,7 @@ MODES = {
         "repeats": 3, "single_dtypes": ("f32",), "cold_dtypes": ("f32",),
         "grid_steps": 300, "grid_f64_steps": 300, "grid_repeats": 2, "grid_alive": False, "grid_dtypes": ("f32",),
         "bd_side": 32, "bd_dtypes": ("f32",),
-        "tp_steps": 300, "tp_repeats": 3, "np_steps": 300, "tp_dtypes": ("f32", "f64"),
+        "tp_steps": 300, "tp_repeats": 3, "np_steps": 300, "np_repeats": 1, "tp_dtypes": ("f32", "f64"),
         "grad_steps": 12000, "grad_checkpoints": (0, 1), "grad_repeats": 2, "grad_dtypes": ("f32",),
         "check_throws": "small", "check_steps": 3000,
         "pool_grid": 32, "pool_lanes": (256,), "pool_dtypes": ("f32",),
@@ -80,7 +80,7 @@ MODES = {
         "grid_steps": 3000, "grid_f64_steps": 1200, "grid_repeats": 1, "grid_alive": True,
         "grid_dtypes": ("f32", "f64"),
         "bd_side": 64, "bd_dtypes": ("f32", "f64"),
-        "tp_steps": 2000, "tp_repeats": 3, "np_steps": 2000, "tp_dtypes": ("f32", "f64"),
+        "tp_steps": 2000, "tp_repeats": 3, "np_steps": 2000, "np_repeats": 3, "tp_dtypes": ("f32", "f64"),
         "grad_steps": 12000, "grad_checkpoints": (0, 1), "grad_repeats": 7, "grad_dtypes": ("f32", "f64"),
         "grad_short_steps": (1200,),
         "check_throws": "grid", "check_steps": 12000,
@@ -502,7 +502,7 @@ def section_breakdown(dtype, p):
 
     from jaxskip import ForceModel, SimConfig
     from jaxskip import quaternion as quat
-    from jaxskip.clipping import immersed_areas_from_heights
+    from jaxskip.clipping import immersed_moments_from_heights
     from jaxskip.forces import flat_surface, vertex_heights, water_force
     from jaxskip.simulate import free_rotation, make_step, rollout
 
@@ -522,8 +522,8 @@ def section_breakdown(dtype, p):
         ("water_force (clipping + per-face law + sums)",
          lambda s, t: water_force(ForceModel(), water, stone, s.position, quat.to_matrix(s.orientation),
                                   s.velocity, s.angular_velocity, flat)),
-        ("  of which vertex heights + exact clipping (body frame)",
-         lambda s, t: immersed_areas_from_heights(
+        ("  of which vertex heights + exact clipping (body frame; the moments the default step takes)",
+         lambda s, t: immersed_moments_from_heights(
              stone.triangles, vertex_heights(stone, s.position, quat.to_matrix(s.orientation), flat))),
         ("free_rotation (2 substeps)",
          lambda s, t: free_rotation(s.orientation, s.angular_velocity, stone, 2.5e-4)),
@@ -594,10 +594,14 @@ def section_numpy(dtype, p):
     B, steps = tilt.shape[0], p["np_steps"]
     np_stone, np_water = stone_to_numpy(stone), water_to_numpy(water)
     simulate_numpy(throws, np_stone, np_water, config, steps=2)  # warm caches
-    t0 = time.perf_counter()
-    res = simulate_numpy(throws, np_stone, np_water, config, steps=steps)
-    run = time.perf_counter() - t0
+    runs = []
+    for _ in range(p["np_repeats"]):   # a median, as for JAX's side (the machine's speed drifts)
+        t0 = time.perf_counter()
+        res = simulate_numpy(throws, np_stone, np_water, config, steps=steps)
+        runs.append(time.perf_counter() - t0)
+    run = float(statistics.median(runs))
     out = {"dtype": "float64", "throws": B, "steps": steps, "early_exit": res["early_exit"], "run_s": run,
+           "repeats": len(runs), "runs_s": runs,
            "throw_steps_per_s": B * steps / run, "ms_per_step": run / steps * 1e3}
     one = {k: v[:1] for k, v in throws.items()}
     t0 = time.perf_counter()
@@ -935,10 +939,15 @@ def summarise(res):
         tp = g("throughput", dt)
         if tp and np_r:
             ratio = tp["throw_steps_per_s"] / np_r["throw_steps_per_s"]
-            add(f"JAX [{dt}] / NumPy [f64] throughput, B=256", ratio, "x", 100.0, ">= 100x", larger=True,
+            # The verdict compares like with like: JAX in float64 against the float64 NumPy baseline. The
+            # float32 ratio (JAX's default precision) is shown for reference only: it credits JAX with the
+            # cheaper arithmetic too.
+            same = dt == "f64"
+            add(f"JAX [{dt}] / NumPy [f64] throughput, B=256" + ("" if same else " (mixed precision, reference)"),
+                ratio, "x", 100.0 if same else None, ">= 100x" if same else "", larger=True,
                 note=f"{tp['throw_steps_per_s'] / 1e6:.3g} vs {np_r['throw_steps_per_s'] / 1e6:.3g} M throw-steps/s "
                      f"({tp['steps']} vs {np_r['steps']} steps; JAX on {tp.get('devices', 1)} device(s), "
-                     f"NumPy on one core)")
+                     f"NumPy on one core; NumPy the median of {np_r.get('repeats', 1)} runs)")
             if tp.get("devices", 1) > 1:
                 add(f"  same, JAX on 1 device [{dt}]", tp["one_device_throw_steps_per_s"] / np_r["throw_steps_per_s"],
                     "x", None, "", note="both on one core")
@@ -977,9 +986,15 @@ def summarise(res):
             short = v["horizons"].get("300", {}).get("max_dx")
             add(f"NumPy vs JAX f64, max |dx| after 300 steps [{tag}]", short, "m", 1e-9, "<= 1e-9 m")
             add(f"NumPy vs JAX f64, same bounces after {v['steps']} steps [{tag}]",
-                100.0 * v["bounces_agree"] / v["throws"], "%", None, "most",
-                note=f"{v['bounces_agree']}/{v['throws']} throws")
+                100.0 * v["bounces_agree"] / v["throws"], "%", CHECK_BOUNCE_SHARE, f">= {CHECK_BOUNCE_SHARE:g} %",
+                larger=True, note=f"{v['bounces_agree']}/{v['throws']} throws (a long throw's count is chaotic: "
+                                  "rounding may move a few)")
     return rows
+
+
+#: Share [%] of the check's throws whose bounce counts must agree between NumPy and JAX (float64) after the
+#: long horizon; below it (or with positions apart by more than 1e-9 m after 300 steps) ``--check`` exits 1.
+CHECK_BOUNCE_SHARE = 75.0
 
 
 def _get(res, section, dtype):
@@ -1054,14 +1069,16 @@ def main(argv=None):
               "numpy": "NumPy baseline, same 256 throws",
               "gradient": "gradient of the final downrange position through a full throw",
               "check": "validation: NumPy baseline vs JAX, both float64"}
-    results = {}
+    results, crashed = {}, []
     t_start = time.perf_counter()
     for section, dtype in plan:
         busy = cpu_busy()
         note = "" if busy is None else f"  (other load: {busy:.1f} of {os.cpu_count()} CPUs busy)"
         print(f"\n--- {section} [{dtype}]: {titles[section]}{note}", flush=True)
         r = run_cold(dtype) if section == "cold" else run_worker(section, dtype, p)
-        if r is not None:
+        if r is None:
+            crashed.append(f"{section} [{dtype}]")
+        else:
             r["other_load_cpus"] = busy
             results[f"{section}:{dtype}"] = r
     elapsed = time.perf_counter() - t_start
@@ -1075,7 +1092,14 @@ def main(argv=None):
                    "summary": rows}
         Path(args.json).write_text(json.dumps(payload, indent=1, default=str))
         print(f"wrote {args.json}")
+    # The validation must be able to fail: a NumPy baseline that drifted from the model exits 1.
+    failed = [r["figure"] for r in rows if r["figure"].startswith("NumPy vs JAX") and r["verdict"] == "missed"]
+    if failed:
+        print("VALIDATION FAILED: " + "; ".join(failed), file=sys.stderr)
+    if crashed:
+        print("SECTIONS FAILED: " + ", ".join(crashed), file=sys.stderr)
+    return 1 if failed or crashed else 0
 
 
 if __name__ == "__main__":
-    main()
+    sys.exit(main())
