@@ -96,6 +96,7 @@ def _tilt_directions(trajectory: dict, t: np.ndarray, heading: float) -> np.ndar
     left = -nx * math.sin(heading) + ny * math.cos(heading)
     # math.atan2 per contact: NumPy's vectorised arctan2 differs from it in the last bit
     angle = np.array([math.atan2(a, b) for a, b in zip(left.tolist(), back.tolist())], dtype=np.float64)
+    angle = np.where(angle == -math.pi, math.pi, angle)   # (atan2(-0.0, b < 0) is -π: outside (-π, π])
     out = np.where(np.hypot(back, left) < 1e-12, 0.0, angle)
     return np.where(np.isfinite(t), out, np.nan)
 
@@ -161,6 +162,12 @@ class ThrowResult:
     every :data:`FIELD_CHUNK_TIME` of contact, the frames of :func:`jaxskip.plotting.animate_throw`)."""
     rigid: RigidStone | None = None
     """The stone simulated (mass properties and mesh in the body frame)."""
+
+    def __repr__(self) -> str:
+        # (the dataclass's own repr printed every trajectory array, contact and triangle: 18-97 k characters)
+        return (f"ThrowResult({self.bounces} bounce{'' if self.bounces == 1 else 's'} over {self.distance:.3f} m, "
+                f"{self.outcome} after {self.final_time:.3f} s in {self.steps} steps; {self.stone_name} stone of "
+                f"{self.mass * 1e3:.1f} g" + (", on a height field" if self.field else "") + ")")
 
     def energy(self) -> dict:
         r"""The stone's mechanical energy along :attr:`trajectory` [J], each an (N,) array, one value per row:

@@ -58,7 +58,8 @@ class BatchResult:
     tracker: Tracker
     """Final trackers (contact logs ``t_start``/``t_end`` (N, K) [s], ...), leading axis N."""
     throws: Throw
-    """The throws, shape (N,)."""
+    """The throws as simulated, shape (N,): host NumPy arrays in JAX's float type (float32, or float64 under
+    ``jax_enable_x64``), whatever types they were given in."""
     config: SimConfig
     """The :class:`jaxskip.SimConfig` every throw ran with (checked; ``record`` ignored)."""
     lanes: int
@@ -69,6 +70,14 @@ class BatchResult:
     """Steps computed over all lanes, idle lanes included (the cost)."""
     wall_time: float
     """Wall-clock time, compile included [s]."""
+
+    def __repr__(self) -> str:
+        # (the dataclass's own repr printed every state, tracker and throw array: tens of k characters)
+        b = np.asarray(self.bounces)
+        names, counts = np.unique(self.outcome_names, return_counts=True)
+        told = ", ".join(f"{c} {n}" for n, c in zip(names.tolist(), counts.tolist()))
+        spread = f"bounces {b.min()}-{b.max()} (median {np.median(b):g})" if b.size else "no throws"
+        return f"BatchResult({b.size} throws: {spread}; {told}; {self.lanes} lanes, {self.wall_time:.2f} s)"
 
     @property
     def outcome_names(self) -> np.ndarray:
@@ -256,7 +265,7 @@ def simulate_batch(
     return BatchResult(
         bounces=final_tracker.bounces.astype(int), n_contacts=final_tracker.contacts.astype(int), outcome=outcome,
         distance=distance, final_time=np.asarray(final_state.time), state=final_state, tracker=final_tracker,
-        throws=throws, config=config, lanes=lanes, chunk=chunk, lane_steps=lane_steps,
+        throws=host_throws, config=config, lanes=lanes, chunk=chunk, lane_steps=lane_steps,
         wall_time=time.perf_counter() - t0,
     )
 

@@ -500,12 +500,22 @@ def _require(call: str, **named) -> None:
             raise ParameterError(f"{call}: {name} must be a {_HINTS[cls]}, got {type(value).__name__}")
 
 
+def _one_throw(name: str, throw: Throw) -> None:
+    """``throw`` must be one throw, every field of shape ``()`` (static: checked while tracing too; a batch met a
+    raw JAX broadcasting error), else a :class:`ParameterError` naming the function ``name``."""
+    shapes = {f.name: tuple(np.shape(getattr(throw, f.name))) for f in dataclasses.fields(throw)}
+    if any(shape != () for shape in shapes.values()):
+        raise ParameterError(f"{name} takes one throw (every field of shape ()), got shapes {shapes}: jax.vmap it "
+                             "over a batch, or use jaxskip.simulate_batch")
+
+
 def initial_state(throw: Throw, stone: RigidStone) -> StoneState:
     """State at release: lowest point ``throw.height`` above flat water, velocity and spin from the throw.
 
     ``throw``: one throw (shape ``()``; ``vmap`` for batches), already checked (:meth:`Throw.check`:
     this pure function does not validate its values, so that it can be traced; its arguments' types are)."""
     _require("initial_state(throw, stone)", throw=(throw, Throw), stone=(stone, RigidStone))
+    _one_throw("initial_state", throw)
     q = attitude(throw.tilt, throw.heading)
     R = quat.to_matrix(q)
     lowest = jnp.min(quat.rotate(R, stone.triangles)[..., 2])
@@ -526,6 +536,7 @@ def initial_carry(config: SimConfig, throw: Throw, stone: RigidStone) -> tuple[S
     _require("initial_carry(config, throw, stone)", config=(config, SimConfig), throw=(throw, Throw),
              stone=(stone, RigidStone))
     throw, stone = _one_float_type(throw, stone)
+    _one_throw("initial_carry", throw)
     state = initial_state(throw, stone)
     return state, _new_tracker(config.max_contacts, state.position.dtype)
 
@@ -1032,10 +1043,7 @@ def _check_rollout_args(config, throw, stone, water, name: str = "rollout",
     ``signature``: the function the messages name."""
     _require(name + signature, config=(config, SimConfig), throw=(throw, Throw),
              stone=(stone, RigidStone), water=(water, WaterParams))
-    shapes = {f.name: tuple(np.shape(getattr(throw, f.name))) for f in dataclasses.fields(throw)}
-    if any(shape != () for shape in shapes.values()):
-        raise ParameterError(f"{name} takes one throw (every field of shape ()), got shapes {shapes}: jax.vmap "
-                             "it over a batch, or use jaxskip.simulate_batch")
+    _one_throw(name, throw)
     # a batched stone or water (a forgotten in_axes) met a broadcasting error deep inside the step
     water_shapes = {f.name: tuple(np.shape(getattr(water, f.name))) for f in dataclasses.fields(water)}
     if any(shape != () for shape in water_shapes.values()):

@@ -93,19 +93,7 @@ class Throw:
         except ValueError:
             raise ParameterError("the throw's parameters must broadcast to one batch shape, got "
                                  + ", ".join(f"{k} {a.shape}" for k, a in fields.items())) from None
-        # checked in NumPy at the stored precision: float_array inside a jit trace gives a tracer
-        speed = np.asarray(np.broadcast_to(fields["speed"], shape), dtype=float_dtype())
-        if not np.all(speed > 0):  # in (0, 100] as given, 0 as stored: refused by simulate with a value never given
-            given = float(np.broadcast_to(fields["speed"], shape)[~(speed > 0)].flat[0])
-            raise ParameterError(f"speed must be finite and in (0, {MAX_SPEED:g}] m/s, got {given!r}, which is 0 in "
-                                 f"{speed.dtype} (the float type JAX runs in)")
-        tilt = np.asarray(np.broadcast_to(fields["tilt"], shape), dtype=float_dtype())
-        edge = np.abs(tilt) >= np.asarray(math.pi / 2, dtype=tilt.dtype)   # the open range's end, as stored
-        if np.any(edge):
-            given = float(np.broadcast_to(fields["tilt"], shape)[edge].flat[0])
-            raise ParameterError(f"tilt must be in (-π/2, π/2) rad, i.e. (-90, 90) deg, got {given!r} rad "
-                                 f"({math.degrees(given):.10g} deg), which is ±π/2 in {tilt.dtype} (the float type "
-                                 "JAX runs in)")
+        _check_as_stored(np.broadcast_to(fields["speed"], shape), np.broadcast_to(fields["tilt"], shape))
         return cls(**{k: float_array(np.broadcast_to(a, shape)) for k, a in fields.items()})
 
     @classmethod
@@ -143,15 +131,37 @@ class Throw:
             raise ParameterError("every field of a Throw must have the same shape, got "
                                  + ", ".join(f"{k} {v}" for k, v in shapes.items())
                                  + " (Throw.create and Throw.from_degrees broadcast them for you)")
-        # Stored in float32 (x64 off), a bound that :meth:`create` accepted may round one ulp outside it.
-        eps = max((np.finfo(v.dtype).eps for v in values.values() if np.issubdtype(v.dtype, np.floating)), default=0.0)
-        _checked(**values, slack=float(eps) if eps > np.finfo(np.float64).eps else 0.0)
+        # Stored in float32 (x64 off, or a throw made before it was switched on), a bound that :meth:`create`
+        # accepted may round one ulp outside it: float32's rounding is allowed, and no more (a float16 field's
+        # own eps widened every bound by 0.1 %: a speed of 100.06 m/s passed).
+        f32 = float_dtype() == np.float32 or any(v.dtype == np.float32 for v in values.values())
+        checked = _checked(**values, slack=float(np.finfo(np.float32).eps) if f32 else 0.0)
+        _check_as_stored(checked["speed"], checked["tilt"])   # (as create: 1e-50 m/s is 0 in float32)
         return self
 
     @property
     def shape(self) -> tuple:
         """Batch shape of the throw (``()`` for a single throw)."""
         return tuple(np.shape(self.speed))
+
+
+def _check_as_stored(speed, tilt) -> None:
+    """``speed`` [m/s] and ``tilt`` [rad] (arrays, as given) must stay in range once stored in the float type JAX
+    runs in: a speed that is 0 there, or a tilt that is ±π/2, was refused by simulate with a value never given
+    (or ran: a 1e-50 m/s throw sank, a tilt of π/2 - 1e-9 flipped). Checked in NumPy: ``float_array`` inside a
+    jit trace gives a tracer."""
+    stored = np.asarray(speed, dtype=float_dtype())
+    if not np.all(stored > 0):  # in (0, 100] as given, 0 as stored
+        given = float(np.asarray(speed)[~(stored > 0)].flat[0])
+        raise ParameterError(f"speed must be finite and in (0, {MAX_SPEED:g}] m/s, got {given!r}, which is 0 in "
+                             f"{stored.dtype} (the float type JAX runs in)")
+    stored = np.asarray(tilt, dtype=float_dtype())
+    edge = np.abs(stored) >= np.asarray(math.pi / 2, dtype=stored.dtype)   # the open range's end, as stored
+    if np.any(edge):
+        given = float(np.asarray(tilt)[edge].flat[0])
+        raise ParameterError(f"tilt must be in (-π/2, π/2) rad, i.e. (-90, 90) deg, got {given!r} rad "
+                             f"({math.degrees(given):.10g} deg), which is ±π/2 in {stored.dtype} (the float type "
+                             "JAX runs in)")
 
 
 def _checked(speed, tilt, attack, spin, height, heading, slack: float = 0.0) -> dict:

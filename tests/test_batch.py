@@ -226,3 +226,17 @@ def test_memoised_stone_and_water_follow_the_public_dicts(monkeypatch):
     many = simulate_batch(Throw.from_degrees(speed=[7.0]), config=config)
     assert float(one.water.c_lift) == 0.5
     assert one.distance == pytest.approx(float(many.distance[0]), abs=1e-9)
+
+
+def test_results_print_short_and_keep_the_throws_as_simulated(paper, water):
+    """(2026-12-06, a review) the results' dataclass reprs printed every array (18-97 k characters);
+    BatchResult.throws held the user's float16 / JAX arrays, not the float arrays simulated; a face tilted
+    leading edge down read -180 deg on some headings, outside the documented (-180, 180]."""
+    r = simulate(Throw.from_degrees(), stone="paper", water=water)
+    assert repr(r) == "ThrowResult(18 bounces over 1.742 m, sank after 0.375 s in 1147 steps; paper stone of 120.7 g)"
+    b = simulate_batch(Throw.from_degrees(speed=np.linspace(4.0, 9.0, 8).astype(np.float16)), paper, water=water)
+    assert len(repr(b)) < 200 and repr(b).startswith("BatchResult(8 throws: bounces ")
+    assert isinstance(b.throws.speed, np.ndarray) and b.throws.speed.dtype == np.float64
+    for heading in (0.0, 45.0):
+        c = simulate(Throw.from_degrees(tilt=-20.0, speed=10.0, heading=heading), stone=paper, water=water).contacts[0]
+        assert -math.pi < c.tilt_direction_start <= math.pi and c.to_dict()["tilt_direction_start_deg"] != -180.0

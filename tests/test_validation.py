@@ -180,7 +180,10 @@ def test_check_accepts_a_bound_rounded_to_float32_and_nothing_beyond():
 
     f32 = lambda *v: [np.float32(x) for x in v]  # noqa: E731
     Throw(*f32(8.0, 0.3, -math.pi / 2, 100.0, 0.001, 0.0)).check()
-    Throw(*f32(8.0, math.pi / 2 * (1 - 1e-9), math.pi / 2, 100.0, 0.001, 0.0)).check()  # rounds to float32(π/2)
+    Throw(*f32(8.0, 0.3, math.pi / 2, 100.0, 0.001, 0.0)).check()   # attack: a closed range's end, rounded
+    # (2026-12-06) a tilt that rounds to float32(π/2) is the open range's end as stored: refused, as create does
+    with pytest.raises(ParameterError, match=r"tilt must be in \(-π/2, π/2\) rad.*which is ±π/2"):
+        Throw(*f32(8.0, math.pi / 2 * (1 - 1e-9), math.pi / 2, 100.0, 0.001, 0.0)).check()
     with pytest.raises(ParameterError, match="attack must be finite and in"):
         Throw(*f32(8.0, 0.3, -1.5708, 100.0, 0.001, 0.0)).check()  # 4e-6 rad beyond: refused
     with pytest.raises(ParameterError, match="attack"):
@@ -880,3 +883,40 @@ def test_review_fixes_2026_12_05(index):
     call, message = _review_2026_12_05_bad_inputs()[index]
     with pytest.raises(ParameterError, match=message):
         call()
+
+
+def test_throw_check_refuses_what_create_refuses_as_stored(monkeypatch):
+    """(2026-12-06, a review) Throw.check let through a throw that Throw.create refuses: a float16 speed of
+    100.06 m/s and tilt of 90.03 deg (its eps widened every bound by 0.1 %), and, in float32, a speed that is 0
+    or a tilt that is ±π/2 once stored; each then ran (sank, flipped) in silence."""
+    import numpy as np
+
+    import jaxskip.throw as throw_module
+
+    with pytest.raises(ParameterError, match=r"speed must be finite and in \(0, 100\] m/s, got 100.0625"):
+        Throw(*map(np.float16, (100.06, 0.3, 0.3, 10.0, 0.001, 0.0))).check()
+    with pytest.raises(ParameterError, match=r"tilt must be finite and in \(-1.5708, 1.5708\) rad, got 1.5712890625"):
+        Throw(*map(np.float16, (8.0, 1.5712890625, 0.3, 10.0, 0.001, 0.0))).check()
+    # JAX computing in float32 (x64 off; the suite runs in float64): the checks at the stored precision
+    monkeypatch.setattr(throw_module, "float_dtype", lambda: np.dtype(np.float32))
+    # a bound create accepts, stored one float32 rounding beyond it (float32(-π/2) < -π/2): passes
+    assert float(np.float32(-math.pi / 2)) < -math.pi / 2
+    Throw(*map(np.float32, (8.0, 0.3, -math.pi / 2, 10.0, 0.001, 0.0))).check()
+    with pytest.raises(ParameterError, match=r"got 1e-50, which is 0 in float32"):
+        Throw(np.float64(1e-50), 0.3, 0.1, 10.0, 0.001, 0.0).check()
+    with pytest.raises(ParameterError, match=r"which is ±π/2 in float32"):
+        Throw(8.0, math.pi / 2 - 1e-9, 0.1, 10.0, 0.001, 0.0).check()
+
+
+def test_initial_state_and_carry_refuse_a_batch_by_name():
+    """(2026-12-06, a review) initial_carry (the README's own-loop snippet) given a batch of throws met a raw
+    JAX broadcasting error."""
+    import numpy as np
+
+    from jaxskip import initial_carry, initial_state
+
+    stone, batch = rigid_stone(paper_stone(), density=2650.0), Throw.from_degrees(speed=np.linspace(4, 8, 4))
+    with pytest.raises(ParameterError, match=r"initial_carry takes one throw .*jax.vmap it over a batch"):
+        initial_carry(SimConfig(), batch, stone)
+    with pytest.raises(ParameterError, match=r"initial_state takes one throw"):
+        initial_state(batch, stone)
