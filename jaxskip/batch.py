@@ -71,6 +71,30 @@ class BatchResult:
     wall_time: float
     """Wall-clock time, compile included [s]."""
 
+    def to_dict(self) -> dict:
+        """JSON-ready per-throw lists (one entry per throw): ``bounces``, ``n_contacts``, ``outcome`` (names),
+        ``distance`` [m] and ``final_time`` [s] (None where not finite), the throws in user units (``speed``
+        [m/s], ``tilt_deg``, ``attack_deg``, ``heading_deg`` [deg], ``spin_rev_s`` [rev/s], ``height`` [m]),
+        and ``lanes``, ``lane_steps`` and ``wall_time`` [s].
+
+        >>> import json, numpy as np
+        >>> from jaxskip import Throw
+        >>> d = simulate_batch(Throw.from_degrees(speed=np.array([6.0, 8.0]))).to_dict()
+        >>> sorted(d["throws"]), len(json.dumps(d)) > 0
+        (['attack_deg', 'heading_deg', 'height', 'speed', 'spin_rev_s', 'tilt_deg'], True)
+        """
+        def numbers(a):
+            return [float(x) if np.isfinite(x) else None for x in np.asarray(a, dtype=np.float64).ravel()]
+
+        t = self.throws
+        throws = {"speed": numbers(t.speed), "tilt_deg": numbers(np.degrees(t.tilt)),
+                  "attack_deg": numbers(np.degrees(t.attack)), "spin_rev_s": numbers(np.asarray(t.spin) / (2 * np.pi)),
+                  "height": numbers(t.height), "heading_deg": numbers(np.degrees(t.heading))}
+        return {"bounces": np.asarray(self.bounces).tolist(), "n_contacts": np.asarray(self.n_contacts).tolist(),
+                "outcome": self.outcome_names.tolist(), "distance": numbers(self.distance),
+                "final_time": numbers(self.final_time), "throws": throws, "lanes": int(self.lanes),
+                "lane_steps": int(self.lane_steps), "wall_time": float(self.wall_time)}
+
     def __repr__(self) -> str:
         # (the dataclass's own repr printed every state, tracker and throw array: tens of k characters)
         b = np.asarray(self.bounces)

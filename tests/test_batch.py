@@ -240,3 +240,16 @@ def test_results_print_short_and_keep_the_throws_as_simulated(paper, water):
     for heading in (0.0, 45.0):
         c = simulate(Throw.from_degrees(tilt=-20.0, speed=10.0, heading=heading), stone=paper, water=water).contacts[0]
         assert -math.pi < c.tilt_direction_start <= math.pi and c.to_dict()["tilt_direction_start_deg"] != -180.0
+
+
+def test_a_batch_result_is_json_ready(paper, water):
+    """(2026-12-06, a review) a BatchResult had no to_dict, and its outcome names (an object array) did not
+    serialise: saving a batch needed hand conversion. to_dict gives per-throw lists in user units."""
+    import json
+
+    throws = Throw.from_degrees(speed=np.array([6.0, 8.0]), tilt=20.0, attack=5.0, spin=np.array([10.0, 20.0]))
+    b = simulate_batch(throws, paper, water=water)
+    d = json.loads(json.dumps(b.to_dict(), allow_nan=False))
+    assert d["bounces"] == b.bounces.tolist() and d["outcome"] == b.outcome_names.tolist()
+    assert d["throws"]["spin_rev_s"] == pytest.approx([10.0, 20.0]) and d["throws"]["tilt_deg"] == pytest.approx([20.0] * 2)
+    assert d["distance"] == pytest.approx(b.distance.tolist())
