@@ -120,7 +120,9 @@ class ThrowResult:
     final_time: float
     """Simulated time at the end [s]."""
     steps: int
-    """Steps taken (flight jumps included)."""
+    """Steps taken (flight jumps included). The trajectory holds ``steps`` rows for a throw that ended, at the
+    time limit included (its last row the final state), and ``steps + 1`` for one that ran out of steps in
+    play (outcome ``step_limit``: the state after the last step appended)."""
     trajectory: dict
     """Per-step arrays, the state at the start of each step: ``time`` (N,) [s], ``position`` (N, 3) [m]
     (centre of mass), ``orientation`` (N, 4) [-] (unit quaternion (w, x, y, z), body to world),

@@ -26,6 +26,7 @@ from __future__ import annotations
 import dataclasses
 import json
 import math
+import warnings
 import os
 
 import jax
@@ -229,6 +230,11 @@ def write_trajectory(result, path, fps: float = 60.0) -> str:
         if os.path.isdir(target):
             raise ParameterError(f"{name} {target!r} is a folder, not a file: choose another trajectory path")
     owner = _stone_file_owner(obj)   # (a file jaxskip did not write is refused before anything is written)
+    if result.outcome == "diverged":   # (its files gave no sign of it: energy growing to 1e5 J, written as any other)
+        from .simulate import DivergedWarning
+
+        warnings.warn("this throw diverged (outcome 'diverged': the contact step was too long for it): the trajectory "
+                      "written is not a motion; take a smaller dt", DivergedWarning, stacklevel=2)
     f = frames(result, fps)
     t = result.throw
     about = (f"jaxskip trajectory {os.path.basename(path)}: {result.stone_name} stone of {result.mass * 1e3:.1f} g "

@@ -246,3 +246,15 @@ def test_a_field_throws_trajectory_says_which_water_it_ran_on(tmp_path):
     write_trajectory(simulate(config=SimConfig(duration=0.05)), tmp_path / "flat.json", fps=100.0)
     flat = json.loads((tmp_path / "flat.json").read_text())
     assert flat["about"].endswith("water at z = 0") and "water" not in flat
+
+
+def test_writing_a_diverged_throw_warns(tmp_path):
+    """(2026-12-06, a review) the trajectory of a diverged throw (energy growing to 1e5 J) was written as any
+    other, its files giving no sign of it."""
+    import dataclasses as dc
+
+    from jaxskip import DivergedWarning
+
+    r = dc.replace(simulate(config=SimConfig(duration=0.05)), outcome="diverged")
+    with pytest.warns(DivergedWarning, match="this throw diverged .*the trajectory written is not a motion"):
+        write_trajectory(r, tmp_path / "d.csv", fps=100.0)
