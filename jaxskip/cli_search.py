@@ -395,9 +395,9 @@ def run_sweep_command(args) -> int:
         for t, u, n_low, n_failed, n_cut, steady in zip(spec["tilts"], result["umin"], result["bounces_at_low"], failed,
                                                         cut, monotone):
             if n_failed:
-                shown = f"no U_min: {n_failed} of its bisection throws diverged (take a smaller --dt)"
+                shown = f"no U_min: {n_failed} of its throws (scan and bisection) diverged (take a smaller --dt)"
             elif n_cut:
-                shown = (f"no U_min: {n_cut} of its bisection throws were still in their first contact or flight "
+                shown = (f"no U_min: {n_cut} of its throws (scan and bisection) were still in their first contact or flight "
                          f"when {_limits(spec)} stopped them (raise them)")
             elif u is None:
                 shown = f"no bounce at the {SCAN_SPEEDS + 2} speeds thrown from {low:g} to {high:g} m/s"

@@ -262,7 +262,7 @@ CUT_OFF = ("time_limit", "step_limit")
 
 
 def _exact(box: Box, values: dict, stone, config: SimConfig, lanes: int | None = None,
-           progress: bool = False, water=None) -> tuple[np.ndarray, np.ndarray]:
+           progress: bool = False, water=None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Exact bounce counts and distances [m] of the throws ``values`` (user units), lane-pooled
     (:func:`jaxskip.simulate_batch`; ``water`` None: the force law's constants); a throw that diverged gets
     :data:`DIVERGED_SCORE` for both. Also a mask of the throws still in play when the run stopped them

@@ -362,18 +362,33 @@ def _umin_chunk(spec: SweepSpec, sim, index: np.ndarray, progress: bool) -> dict
     first = np.argmax(bounced, axis=1)   # the slowest speed of the scan that bounces (0 where none does)
     found = bounced.any(axis=1)
     # where a faster throw fails to bounce after a slower one did, bisect the first interval in which the
-    # count turns from 0 to a bounce (where it is monotone, the whole bracket, as ever: the same answer)
+    # count turns from 0 to a bounce (where it is monotone, the whole bracket, as ever, and again inside the
+    # scan's interval should that bisection find no bounce at a speed the scan saw bounce at or below)
     narrow = ~monotone & found & (first > 0)
     rows = np.arange(n)
     lo = np.where(narrow, speeds[rows, np.maximum(first - 1, 0)], lo)
     hi = np.where(narrow, speeds[rows, first], hi)
     line = ProgressLine()
-    for i in range(spec.iterations):
-        mid = 0.5 * (lo + hi)
-        ok = bounces(mid[:, None])[:, 0] > 0
-        hi, lo = np.where(ok, mid, hi), np.where(ok, lo, mid)
-        if progress:
-            line.update(f"    bisection {i + 1}/{spec.iterations}")
+
+    def bisect(lo, hi, what=""):
+        for i in range(spec.iterations):
+            mid = 0.5 * (lo + hi)
+            ok = bounces(mid[:, None])[:, 0] > 0
+            hi, lo = np.where(ok, mid, hi), np.where(ok, lo, mid)
+            if progress:
+                line.update(f"    bisection{what} {i + 1}/{spec.iterations}")
+        return lo, hi
+
+    lo, hi = bisect(lo, hi)
+    # A whole-bracket bisection can step into a gap narrower than the scan's step: it then finds a speed that
+    # does not bounce (its bracket's low end) at or above one the scan saw bounce. Such a tilt is not monotone
+    # after all, and is bisected again where the scan turns. (Its top alone says nothing: a coarse bracket's
+    # top may lie above the scan's first bouncing speed with every throw agreeing.)
+    redo = found & (first > 0) & ~narrow & (lo >= speeds[rows, first])
+    if redo.any():
+        monotone = monotone & ~redo
+        _, hi2 = bisect(speeds[rows, np.maximum(first - 1, 0)], speeds[rows, first], " (again, inside the scan)")
+        hi = np.where(redo, hi2, hi)
     if progress:
         line.close()
     umin = np.where(at_low > 0, spec.speed_range[0], np.where(found, hi, np.nan))
@@ -559,7 +574,8 @@ def _warn_not_monotone(spec: SweepSpec, chunks: list[dict]) -> None:
     first interval in which the count turns from 0, and a narrower bouncing window may be missed."""
     if spec.kind != "umin":
         return
-    tilts = [spec.tilts[i] for c in chunks for i, m in zip(c["items"], c["monotone"]) if not m]
+    # (a tilt without a U_min, its scan met a throw that diverged or was cut off, has its own warning)
+    tilts = [spec.tilts[i] for c in chunks for i, m, u in zip(c["items"], c["monotone"], c["umin"]) if not m and u is not None]
     if tilts:
         step = (spec.speed_range[1] - spec.speed_range[0]) / (SCAN_SPEEDS + 1)
         warnings.warn(f"U_min sweep: at {len(tilts)} tilt(s) ({', '.join(f'{t:g}' for t in tilts)} deg) a faster throw "
@@ -622,6 +638,9 @@ def _chunk_problem(data, spec: SweepSpec, j: int, index: np.ndarray) -> str | No
     if not isinstance(data, dict):
         return "not a JSON object"
     lacks = [k for k in ("chunk", "items", *CHUNK_COUNTS[spec.kind], *CHUNK_VALUES[spec.kind]) if k not in data]
+    if "monotone" in lacks and not set(lacks) - {"monotone", "diverged", "cut_off"}:
+        return ("it was written by an earlier jaxskip, before the U_min sweep scanned each bracket (its U_min was "
+                "bisected assuming a faster throw always bounces); delete the folder's chunk files to recompute them")
     if "diverged" in lacks and set(lacks) <= {"diverged", "cut_off"}:
         return ("it was written by an earlier jaxskip, which did not record the throws that diverged (their counts "
                 "mean nothing), so it cannot be checked for them")
@@ -825,12 +844,12 @@ def assemble(spec: SweepSpec, chunks: list[dict]) -> dict:
 
     ``diverged``: throws whose integration failed (outcome ``"diverged"``: the contact step is too long for
     the stone and throw): for a domain sweep 1 or 0 per grid point, (n_tilts, n_attacks), whose count then
-    means nothing; for a U_min sweep the number of the tilt's bisection throws that diverged, and such a
+    means nothing; for a U_min sweep the number of the tilt's throws (its scan's and its bisection's) that diverged, and such a
     tilt's ``umin`` is None (a bisection step was taken on a count that means nothing).
 
     ``cut_off``: throws still in play when the run stopped them at ``duration`` or ``max_steps``: for a
     domain sweep 1 or 0 per grid point, whose count is then a lower bound; for a U_min sweep the number of
-    the tilt's bisection throws stopped before their first bounce, and such a tilt's ``umin`` is None
+    the tilt's throws (its scan's and its bisection's) stopped before their first bounce, and such a tilt's ``umin`` is None
     (whether that throw bounces is unknown).
     """
     def cat(key):

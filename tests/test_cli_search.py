@@ -509,7 +509,7 @@ def test_optimize_and_sweep_print_each_warning_once_and_mark_diverged_throws(tmp
     captured = capsys.readouterr()
     assert sum("resolves a contact" in line for line in captured.err.splitlines()) == 1
     assert sum("U_min sweep diverged" in line for line in captured.err.splitlines()) == 1
-    assert "tilt   20.0 deg: no U_min:" in captured.out and "of its bisection throws diverged" in captured.out
+    assert "tilt   20.0 deg: no U_min:" in captured.out and "of its throws (scan and bisection) diverged" in captured.out
     rows = (tmp_path / "s" / "result.csv").read_text().splitlines()
     assert rows[0].endswith(",diverged,cut_off,monotone") and rows[1].split(",")[-3:-1] != ["0", "0"]
 

@@ -620,7 +620,10 @@ def test_umin_sweep_gives_no_umin_where_its_bisection_met_a_diverged_throw():
 @pytest.mark.parametrize("missing, said", [
     (("diverged", "cut_off"), "earlier jaxskip, which did not record the throws that diverged"),
     (("cut_off",), "earlier jaxskip, which did not record the throws the duration or step limit cut off"),
-], ids=["before-diverged", "before-cut-off"])
+    # (2026-12-06, a review) a U_min chunk from before the speed scan lacks 'monotone' too: "damaged" before
+    (("monotone",), "earlier jaxskip, before the U_min sweep scanned each bracket"),
+    (("diverged", "cut_off", "monotone"), "earlier jaxskip, before the U_min sweep scanned each bracket"),
+], ids=["before-diverged", "before-cut-off", "before-scan", "before-all"])
 def test_chunk_of_an_earlier_version_is_refused_as_such(tmp_path, missing, said):
     """A chunk file written before sweeps recorded diverged throws (and, later, throws cut off by the duration)
     cannot be checked for them: refused with a message that says so (not as an unexplained 'damaged' file)."""
@@ -727,3 +730,28 @@ def test_a_tie_for_the_lowest_umin_is_one_answer_in_the_result():
     assert r["tied_tilts"] == [10.0, 20.0] and r["best_tilt_fit"] is None and r["best_umin_fit"] is None
     r = assemble(spec, [dict(chunk, umin=[3.31, 2.38, 2.30, 2.85])])
     assert r["tied_tilts"] == [] and 10.0 < r["best_tilt_fit"] < 30.0
+
+
+def test_a_bisection_that_steps_into_a_gap_the_scan_missed_is_redone_inside_the_scan(tmp_path, monkeypatch):
+    """(2026-12-06, a review) where the scan looked monotone, the whole bracket was bisected; a gap in the
+    bouncing speeds narrower than the scan's step (here 11.8-12.8 m/s, the scan 2.6 m/s apart) caught its
+    first midpoint, 12.25 m/s, and U_min came out 12.80 m/s although the scan had seen 3.11 m/s bounce, marked
+    monotone. Such a tilt is now bisected again inside the scan's interval, marked not monotone, and warned of."""
+    import optimize.sweep as sweep_module
+    from jaxskip import AccuracyWarning
+
+    class Fake:
+        def __init__(self, speeds):
+            self.bounces = np.where((speeds > 2.3) & ~((speeds >= 11.8) & (speeds <= 12.8)), 3, 0)
+            self.outcome_names = np.full(speeds.shape, "sank", dtype=object)
+
+    def fake_batch(throws, sim, progress):
+        v = np.asarray(throws.speed, dtype=float)
+        return Fake(v), np.zeros(v.shape, bool)
+
+    monkeypatch.setattr(sweep_module, "_batch", fake_batch)
+    spec = make_spec("umin", tilts=[10.0], speed_range=(0.5, 24.0), iterations=10)
+    with pytest.warns(AccuracyWarning, match=r"at 1 tilt\(s\) \(10 deg\) a faster throw failed to bounce"):
+        r = run_sweep(spec)
+    step = (24.0 - 0.5) / 9
+    assert r["monotone"] == [0] and 2.3 < r["umin"][0] <= 2.3 + step / 2 ** 10, r["umin"]
