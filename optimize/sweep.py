@@ -656,13 +656,16 @@ def _chunk_problem(data, spec: SweepSpec, j: int, index: np.ndarray) -> str | No
         values = data[key]
         if not isinstance(values, list) or len(values) != n:
             return f"{key!r} must be a list of {n} values, got {repr(values)[:40]}"
-        if key in CHUNK_COUNTS[spec.kind]:
+        if key == "monotone":   # a flag, not a count
+            ok = all(isinstance(v, int) and not isinstance(v, bool) and v in (0, 1) for v in values)
+        elif key in CHUNK_COUNTS[spec.kind]:
             ok = all(isinstance(v, int) and not isinstance(v, bool) and v >= 0 for v in values)
         else:
             ok = all(v is None or (isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v))
                      for v in values)
         if not ok:
-            return f"{key!r} holds a value that is not a {'count' if key in CHUNK_COUNTS[spec.kind] else 'number'}"
+            what = "0 or 1" if key == "monotone" else "a count" if key in CHUNK_COUNTS[spec.kind] else "a number"
+            return f"{key!r} holds a value that is not {what}"
         if key in CHUNK_VALUES[spec.kind]:  # a number the sweep cannot have produced: a hand edit, or another file
             low, high, unit = ((*spec.speed_range, "m/s, the bisection's bracket") if key == "umin"
                                else (0.0, spec.duration, "s, the throw's duration"))

@@ -350,7 +350,11 @@ def _finished_umin(out):
     # (session 32) a U_min outside the bisection's bracket was taken as found
     ('{"chunk": 1, "items": [1], "umin": [-5.0], "bounces_at_high": [1], "bounces_at_low": [0], "diverged": [0], "cut_off": [0], "monotone": [1]}',
      "'umin' holds -5.0, outside [0.5, 8] m/s, the bisection's bracket"),
-], ids=["empty", "truncated", "too-long", "another-chunk", "not-a-number", "not-an-object", "outside-bracket"])
+    # (2026-12-06, a review) 'monotone' is a flag: 7 passed as a count
+    ('{"chunk": 1, "items": [1], "umin": [1.0], "bounces_at_high": [1], "bounces_at_low": [0], "diverged": [0], "cut_off": [0], "monotone": [7]}',
+     "'monotone' holds a value that is not 0 or 1"),
+], ids=["empty", "truncated", "too-long", "another-chunk", "not-a-number", "not-an-object", "outside-bracket",
+        "monotone-not-a-flag"])
 def test_damaged_chunk_is_refused_naming_it_and_recomputed_once_deleted(tmp_path, text, problem):
     """A damaged chunk file stops the resume and the merge with a ParameterError naming the file and what
     is wrong (not a KeyError or a bare JSON message); deleted, it is recomputed to the same result."""
