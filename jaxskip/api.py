@@ -22,6 +22,7 @@ import numpy as np
 
 from ._docs import document_fields
 from ._progress import ProgressLine
+from ._text import plural
 from ._arrays import float_array, float_leaves
 from ._checks import ParameterError, check_bool, check_int, check_positive, check_range, check_real
 from .body import DENSITY_RANGE, RigidStone, rigid_stone
@@ -167,7 +168,7 @@ class ThrowResult:
 
     def __repr__(self) -> str:
         # (the dataclass's own repr printed every trajectory array, contact and triangle: 18-97 k characters)
-        return (f"ThrowResult({self.bounces} bounce{'' if self.bounces == 1 else 's'} over {self.distance:.3f} m, "
+        return (f"ThrowResult({plural(self.bounces, 'bounce')} over {self.distance:.3f} m, "
                 f"{self.outcome} after {self.final_time:.3f} s in {self.steps} steps; {self.stone_name} stone of "
                 f"{self.mass * 1e3:.1f} g" + (", on a height field" if self.field else "") + ")")
 

@@ -20,6 +20,7 @@ import warnings
 
 from ._checks import ParameterError, check_range
 from ._files import STDOUT, writing
+from ._text import plural
 from ._progress import LOG_INTERVAL
 from .body import DENSITY_RANGE
 from .forces import COEFFICIENT_MAX, VELOCITIES
@@ -74,11 +75,6 @@ def _number(text: str) -> float:
     if "_" in text or not text.isascii():
         raise ValueError(text)
     return float(text)
-
-
-def plural(n: int, word: str) -> str:
-    """``n`` and ``word``, with an ``s`` unless ``n`` is 1: ``1 bounce``, ``0 bounces``, ``14 bounces``."""
-    return f"{n} {word}{'' if n == 1 else 's'}"
 
 
 def _float(text: str) -> float:

@@ -7,6 +7,7 @@ import math
 import numpy as np
 
 from ._files import check_file_path, check_picture_path, writing
+from ._text import plural
 
 
 def _number_contacts(side, xs, xlim, fontsize: float = 7.0, rows: int = 3, last_note: str = "") -> None:
@@ -98,7 +99,7 @@ def plot_throw(result, path=None, *, ax=None):
     throw = (f"{result.stone_name} stone, {result.mass * 1e3:.1f} g: "
              f"{float(th.speed):.1f} m/s, tilt {math.degrees(float(th.tilt)):.1f}°, "
              f"attack {math.degrees(float(th.attack)):.1f}°, spin {float(th.spin) / (2 * math.pi):.1f} rev/s")
-    outcome = f"{_bounces(result.bounces)}, {result.distance:.1f} m, {result.outcome.replace('_', ' ')}"
+    outcome = f"{plural(result.bounces, 'bounce')}, {result.distance:.1f} m, {result.outcome.replace('_', ' ')}"
     wide = side.bbox.width / side.figure.dpi >= 6.0       # inches of axis
     side.set_title(f"{throw}  →  {outcome}" if wide else f"{throw}\n→  {outcome}", fontsize=10 if wide else 9)
     side.legend(loc="lower left", ncol=3, fontsize=8, frameon=False)   # one row under the water line, below the numbers
@@ -272,7 +273,7 @@ def plot_water(result, stone, path=None, *, frame=None):
     ax3.set_xlabel("x [m]", labelpad=6)
     ax3.set_ylabel("y [m]", labelpad=8)
     ax3.set_zlabel(f"z [mm] (vertical ×{exaggeration:.0f})", labelpad=6)
-    ax3.set_title(f"the same moment in 3-D; throw: {_bounces(result.bounces)} in all; window {nx}×{ny}, "
+    ax3.set_title(f"the same moment in 3-D; throw: {plural(result.bounces, 'bounce')} in all; window {nx}×{ny}, "
                   f"{field['spacing'] * 100:.3g} cm columns\n(surface clipped at ±{cap:.0f} mm, twice the colour "
                   "scale)", fontsize=10)
     fig.tight_layout()
@@ -381,7 +382,7 @@ def animate_throw(result, stone, path, *, fps: int = 20):
         side.set_ylim(min(-2.0, pos[:, 2].min() * 100 - 0.5), max(pos[:, 2].max() * 115, 2.0))
         side.set_xlabel("downrange [m] (along the heading)")
         side.set_ylabel("centre of mass height [cm]")
-        side.set_title(f"the whole throw: {_bounces(result.bounces)}, {result.outcome.replace('_', ' ')} "
+        side.set_title(f"the whole throw: {plural(result.bounces, 'bounce')}, {result.outcome.replace('_', ' ')} "
                        f"(red: in contact)", fontsize=9)
 
     images = []
@@ -393,11 +394,6 @@ def animate_throw(result, stone, path, *, fps: int = 20):
     with writing(path):
         images[0].save(path, save_all=True, append_images=images[1:], duration=durations, loop=0)
     return path
-
-
-def _bounces(n: int) -> str:
-    """``"1 bounce"``, ``"3 bounces"``."""
-    return f"{n} bounce" + ("" if n == 1 else "s")
 
 
 def _frame_durations(times, fps: float) -> list:
