@@ -40,7 +40,8 @@ and gives the same file as an uninterrupted one. With
 machines. Every local JAX device is used (the lanes of
 :func:`jaxskip.simulate_batch` are sharded over them). ``out_dir/spec.json`` pins the
 sweep a folder holds, its resolved simulation configuration (and an ``.obj`` stone's SHA-256)
-included: a re-run with other settings there is refused, and so are chunk files without it.
+included: a re-run with other settings there is refused, and so are chunk files without it. An ``.obj``
+stone is known by its contents, not its path: shards that read one file at different paths merge.
 """
 
 from __future__ import annotations
@@ -711,8 +712,20 @@ RESUME_REMEDY = ("give those settings to resume it (a default that changed since
                  "max_steps, can be given explicitly: --max-steps N), or use a new folder")
 
 
+def _identity(spec: dict) -> dict:
+    """What makes two spec.json dicts one sweep: everything, except that an ``.obj`` stone is known by its
+    contents (``config["stone_sha256"]``), not by the path it was read from (a shard on another machine, or a
+    resume from another folder, reads the same file at another path)."""
+    config = spec.get("config")
+    if not (isinstance(config, dict) and "stone_sha256" in config):
+        return spec
+    return {**{k: v for k, v in spec.items() if k != "stone"},
+            "config": {k: v for k, v in config.items() if k != "stone"}}
+
+
 def _spec_difference(old: dict, new: dict) -> str:
     """How a folder's spec.json ``old`` differs from ``new``: the keys, and what ``old`` has there."""
+    old, new = _identity(old), _identity(new)
     keys = sorted(k for k in old.keys() | new.keys() if old.get(k) != new.get(k))
     # (what it holds: the resolved configuration's values, then the sweep's own that are not in it)
     config = {k: v for k, v in sorted(old.get("config", {}).items()) if new.get("config", {}).get(k) != v}
@@ -737,7 +750,7 @@ def _check_spec_file(out: Path, spec: SweepSpec, remedy: str = RESUME_REMEDY) ->
         # (another run created it meanwhile: this one must be the same sweep)
     old, new = _read_spec(path), json.loads(text)
     _spec_from_json(path, old)  # a damaged spec.json ({}, text for tilts) is named as damaged, not as another sweep
-    if old != new:
+    if _identity(old) != _identity(new):
         was, now = (d.get("config", {}).get("precision") for d in (old, new))
         if was != now and was in ("float64", "float32"):
             raise ParameterError(f"out_dir {str(out)!r} holds a sweep computed in {was}, and this process computes "
@@ -964,7 +977,7 @@ def merge(folders, out_dir) -> dict:
             raise ParameterError(f"{str(f)!r} is not a sweep folder (no spec.json)")
         specs.append(_read_spec(f / "spec.json"))
     for f, s in zip(folders, specs):
-        if s != specs[0]:
+        if _identity(s) != _identity(specs[0]):
             raise ParameterError(f"the folders hold different sweeps: {str(f)!r} is not the sweep of "
                                  f"{str(folders[0])!r} ({_spec_difference(s, specs[0])})")
     spec = _spec_from_json(folders[0] / "spec.json", specs[0])

@@ -492,10 +492,32 @@ def test_one_obj_stone_spelt_two_ways_is_one_sweep(tmp_path, monkeypatch):
         spec = make_spec("domain", stone=spelling, **settings)
         if not isinstance(spelling, str):  # an absolute path is another text, and stays one
             assert spec.config["stone"] == os.path.join(str(tmp_path), "peb.obj")
-            continue
-        assert spec.config["stone"] == "peb.obj"
+        else:
+            assert spec.config["stone"] == "peb.obj"
         assert run_sweep(spec, tmp_path / "s")["bounces"] == first["bounces"]
     assert make_spec("domain", stone="paper", **settings).config["stone"] == "paper"
+
+
+def test_shards_reading_one_obj_stone_at_two_paths_merge(tmp_path):
+    """(2026-12-06) Shards on two machines read the same .obj file from different paths; the merge refused them
+    as different sweeps (and a resume from an absolute spelling refused its own folder), although spec.json
+    pins an .obj stone by its SHA-256. The path no longer counts; the contents still do."""
+    from jaxskip import irregular_pebble, write_obj
+
+    mesh = irregular_pebble(seed=1)
+    for machine in ("a", "b"):
+        (tmp_path / machine).mkdir()
+        write_obj(tmp_path / machine / "peb.obj", mesh)
+    settings = dict(tilts=[10.0, 20.0], attacks=[20.0], speed=3.5, attitude="free", max_steps=400, chunk_size=1)
+    whole = run_sweep(make_spec("domain", stone=str(tmp_path / "a" / "peb.obj"), **settings), tmp_path / "whole")
+    for i, machine in enumerate(("a", "b")):
+        spec = make_spec("domain", stone=str(tmp_path / machine / "peb.obj"), **settings)
+        run_sweep(spec, tmp_path / f"s{i}", shard_index=i, num_shards=2)
+    merged = merge([tmp_path / "s0", tmp_path / "s1"], tmp_path / "m")
+    assert merged["bounces"] == whole["bounces"]
+    write_obj(tmp_path / "b" / "peb.obj", irregular_pebble(seed=2))   # another stone at b's path: refused
+    with pytest.raises(ParameterError, match=r"different sweep \(its spec.json differs in config: it has .*stone_sha256="):
+        run_sweep(make_spec("domain", stone=str(tmp_path / "b" / "peb.obj"), **settings), tmp_path / "s1")
 
 
 def test_a_coefficient_given_at_its_default_is_the_same_sweep(tmp_path):
