@@ -138,8 +138,36 @@ def principal_axes(inertia: np.ndarray) -> np.ndarray:
 
     The third axis (largest moment) keeps the sign of the mesh's own z axis,
     so a stone modelled lying in the x-y plane keeps its top face up.
+
+    Equal moments (a disk's two in-plane ones, to within ``1e-9`` of the largest) leave the axes in
+    their plane undetermined: LAPACK returns a pair set by rounding noise, which moved with the mesh's
+    position and would move with the LAPACK build. Such a pair (or triple) is replaced by the mesh's own
+    axes projected into their plane, taken in the order z, y, x for the larger moments first, so a
+    disk lying in the x-y plane keeps the mesh's x and y axes and its result does not depend on where
+    the mesh sits.
     """
-    _, axes = np.linalg.eigh(inertia)
+    moments, axes = np.linalg.eigh(inertia)
+    tol = 1e-9 * max(float(np.max(np.abs(moments))), np.finfo(float).tiny)
+    start = 0
+    while start < 3:
+        end = start + 1
+        while end < 3 and moments[end] - moments[start] <= tol:
+            end += 1
+        if end - start > 1:                     # a cluster of equal moments: [start, end)
+            plane = axes[:, start:end].copy()
+            chosen = []
+            for i in range(end - 1, start - 1, -1):   # larger moments first
+                candidates = []
+                for e in np.eye(3)[::-1]:             # the mesh's z, y, x axes
+                    v = plane @ (plane.T @ e)
+                    for c in chosen:
+                        v = v - c * (c @ v)
+                    candidates.append(v)
+                norms = np.round([np.linalg.norm(v) for v in candidates], 9)
+                v = candidates[int(np.argmax(norms))]
+                chosen.append(v / np.linalg.norm(v))
+                axes[:, i] = chosen[-1]
+        start = end
     if axes[2, 2] < 0.0:
         axes[:, 2] = -axes[:, 2]
     if np.linalg.det(axes) < 0.0:

@@ -502,3 +502,22 @@ def test_a_state_that_is_no_longer_finite_ends_the_run_as_diverged(paper, water,
     for _ in range(3):
         carry = step(carry)
     assert int(carry[1].outcome) == DIVERGED and not bool(carry[1].alive), carry[1].counters
+
+
+def test_a_disks_body_frame_does_not_depend_on_where_its_mesh_sits():
+    """(2026-12-06, a review) A disk's two in-plane moments are equal, and LAPACK picked their axes by rounding
+    noise: the same disk moved by (0.3, 0.1, 0) m had its rim turned 105 deg in the body frame and threw 10
+    bounces over 2.32 m against 11 over 2.37 m. Equal moments now take the mesh's own axes."""
+    from jaxskip import disk
+    from jaxskip.body import principal_axes
+
+    reference = np.asarray(rigid_stone(disk(0.04, 0.008), density=2650.0).triangles, dtype=float)
+    for offset in ([0.3, 0.1, 0.0], [0.7, -0.2, 0.1], [-1.0, 2.0, 0.3]):
+        moved = rigid_stone(disk(0.04, 0.008).translated(offset), density=2650.0)
+        np.testing.assert_allclose(np.asarray(moved.triangles, dtype=float), reference, rtol=0, atol=1e-12)
+    np.testing.assert_array_equal(principal_axes(np.eye(3)), np.eye(3))            # a sphere: the mesh's axes
+    np.testing.assert_allclose(principal_axes(np.diag([1.0, 1.0, 2.0]) + 1e-13 * np.array(
+        [[0.0, 1.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, 0.0]])), np.eye(3), atol=1e-12)   # noise in the plane: x, y
+    axes = principal_axes(np.diag([1.0, 2.0, 3.0]))                 # distinct moments: the principal axes
+    np.testing.assert_allclose(np.abs(axes), np.eye(3), atol=0)
+    assert np.linalg.det(principal_axes(np.diag([2.0, 1.0, 1.0]))) == pytest.approx(1.0)
