@@ -133,6 +133,12 @@ class RigidStone:
         return self
 
 
+def _size_message(name: str, shown: str) -> str:
+    return (f"stone {name!r}: its size (bounding radius) must be in [{RADIUS_RANGE[0] * 1e3:g} mm, "
+            f"{RADIUS_RANGE[1]:g} m], got {shown} m; vertices are read in metres (an OBJ in millimetres needs "
+            "scaling by 0.001)")
+
+
 def principal_axes(inertia: np.ndarray) -> np.ndarray:
     """Rotation (3, 3) whose columns are the principal axes, moments ascending, det +1.
 
@@ -235,6 +241,13 @@ def rigid_stone(mesh: TriMesh, *, density: float | None = None, mass: float | No
     if mass is not None:
         mass = check_real("mass", mass, valid="> 0 kg")   # (a mass <= 0 gets this stone's range, below)
     validate_mesh(mesh.vertices, mesh.faces, name=mesh.name)  # closed, outward, no degenerate triangle
+    # The bounding radius about the centre of mass lies between half the vertices' largest span and the span:
+    # a stone a thousandfold out of range is named as such here, before its mass or inertia can overflow (an
+    # OBJ scaled by 1e100 was refused as "a density or mass beyond any physical range?"); nearer the range,
+    # by its exact radius below.
+    span = float(np.max(np.ptp(np.asarray(mesh.vertices, dtype=np.float64), axis=0)))
+    if not (1e-3 * RADIUS_RANGE[0] <= span and 0.5 * span <= 1e3 * RADIUS_RANGE[1]):
+        raise ParameterError(_size_message(mesh.name, f"about {0.5 * span:.3g} to {span:.3g}"))
     if mass is not None:
         volume = float(mass_properties(mesh, density=1.0).volume)
         if not lo <= float(mass) / volume <= hi:
@@ -251,10 +264,7 @@ def rigid_stone(mesh: TriMesh, *, density: float | None = None, mass: float | No
         shown = f"{radius:.4g}"
         if RADIUS_RANGE[0] <= float(shown) <= RADIUS_RANGE[1]:  # ("got 1 m" for 1.0000125 m read as a contradiction)
             shown = f"{radius:.12g}"
-        raise ParameterError(
-            f"stone {mesh.name!r}: its size (bounding radius) must be in [{RADIUS_RANGE[0] * 1e3:g} mm, "
-            f"{RADIUS_RANGE[1]:g} m], got {shown} m; vertices are read in metres (an OBJ in millimetres needs "
-            "scaling by 0.001)")
+        raise ParameterError(_size_message(mesh.name, shown))
     tri = v[np.asarray(mesh.faces)]
     cross = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
     area2 = np.linalg.norm(cross, axis=1)

@@ -349,6 +349,9 @@ def validate_mesh(vertices, faces, *, name: str = "mesh", _numbering: _Numbering
                         "must be one closed surface: remove the extra parts")
 
     volume = _signed_volume(v, f)
+    if not np.isfinite(volume):   # (a NaN volume was read as "<= 0, so the faces point inward")
+        raise MeshError(f"{name}: its volume overflows the floating-point range (vertex coordinates up to "
+                        f"{float(np.max(np.abs(v))):.3g}); vertices are read in metres")
     if not volume > 0.0:
         raise MeshError(f"{name}: signed volume is {volume:.6g} m^3 <= 0, so the faces point "
                         "inward; reverse the vertex order of every triangle")
@@ -622,6 +625,9 @@ def read_obj(path: str | os.PathLike, *, name: str | None = None) -> TriMesh:
     path = Path(path)
     fname = path.name
     try:
+        # (before opening: opening a named pipe for reading waits for a writer, without end)
+        if not stat.S_ISREG(os.stat(path).st_mode):
+            raise MeshError(f"cannot read OBJ file {str(path)!r}: not a regular file")
         with open(path, "rb") as fh:
             st = os.fstat(fh.fileno())
             if not stat.S_ISREG(st.st_mode):  # a device or a pipe would be read without end

@@ -19,7 +19,8 @@ from pathlib import Path
 
 import numpy as np
 
-from .mesh import MeshError, TriMesh, _positive_scalar, mass_properties, read_obj, validate_mesh
+from ._checks import ParameterError, check_range
+from .mesh import MeshError, TriMesh, mass_properties, read_obj, validate_mesh
 
 __all__ = [
     "STONE_DENSITY",
@@ -49,6 +50,20 @@ ALUMINIUM_DENSITY = 2700.0
 #: 2 (``n_lat`` - 1) ``n_lon``): 2^17. A stone's every triangle is clipped every step, so far fewer serve any
 #: throw (``notebooks/speed_vs_accuracy.py``: the disk converges by 512); 10^6 segments took 29 s to build.
 MAX_TRIANGLES = 2 ** 17
+
+
+#: Lengths [m] a built-in stone's size may have (radius, thickness, semi-axes): 1 µm to 100 m. Beyond them a
+#: mesh's triangles underflow to zero area or overflow (a 1e-120 m paper stone was refused as "degenerate");
+#: :func:`jaxskip.rigid_stone` then takes stones of 1 mm to 1 m (:data:`jaxskip.body.RADIUS_RANGE`).
+SIZE_RANGE = (1e-6, 100.0)
+
+
+def _size(value, name: str) -> float:
+    """``value`` [m] as a float in :data:`SIZE_RANGE`, or MeshError naming ``name`` and the range."""
+    try:
+        return check_range(name, value, SIZE_RANGE[0], SIZE_RANGE[1], unit="m")
+    except ParameterError as err:
+        raise MeshError(str(err)) from None
 
 
 def _count(value, name: str, minimum: int, maximum: int) -> int:
@@ -169,8 +184,8 @@ def paper_stone(radius: float = 0.05, thickness: float = 0.012) -> TriMesh:
     TriMesh
         Mesh named "paper", V = 21 vertices (21, 3) [m], F = 38 faces (38, 3).
     """
-    radius = _positive_scalar(radius, "radius [m]")
-    half = 0.5 * _positive_scalar(thickness, "thickness [m]")
+    radius = _size(radius, "radius")
+    half = 0.5 * _size(thickness, "thickness")
     inner = 0.6
     z_inner = half * math.sqrt(1.0 - inner**2)
 
@@ -206,8 +221,8 @@ def disk(radius: float, thickness: float, segments: int = 32) -> TriMesh:
     TriMesh
         Mesh named "disk" with 2 n + 2 vertices and 4 n triangles.
     """
-    radius = _positive_scalar(radius, "radius [m]")
-    half = 0.5 * _positive_scalar(thickness, "thickness [m]")
+    radius = _size(radius, "radius")
+    half = 0.5 * _size(thickness, "thickness")
     n = _count(segments, "segments", 3, MAX_TRIANGLES // 4)
     phi = _ring_angles(n)
     rim = np.stack([radius * np.cos(phi), radius * np.sin(phi), np.zeros(n)], axis=1)
@@ -281,12 +296,14 @@ def irregular_pebble(seed: int = 0, radius: float = 0.04, thickness: float = 0.0
     TriMesh
         Mesh named "pebble".
     """
-    if not (isinstance(roughness, (int, float, np.floating)) and 0.0 <= roughness < 1.0):
-        raise MeshError(f"roughness must lie in [0, 1), got {roughness!r}")
+    try:   # (a NumPy integer was refused as "must lie in [0, 1), got np.int64(0)")
+        roughness = check_range("roughness", roughness, 0.0, 1.0, high_open=True)
+    except ParameterError as err:
+        raise MeshError(str(err)) from None
     if isinstance(seed, (bool, np.bool_)) or not isinstance(seed, numbers.Integral) or seed < 0:
         raise MeshError(f"seed must be an integer >= 0, got {seed!r}")
-    radius = _positive_scalar(radius, "radius [m]")
-    half = 0.5 * _positive_scalar(thickness, "thickness [m]")
+    radius = _size(radius, "radius")
+    half = 0.5 * _size(thickness, "thickness")
     rng = np.random.default_rng(int(seed))
     ab = rng.normal(size=(3, 2))
     ck = rng.normal(size=2)
@@ -313,7 +330,7 @@ def _uv_pebble(semi_axes, n_lat, n_lon, perturbation, name: str) -> TriMesh:
         axes = ()
     if len(axes) != 3:
         raise MeshError(f"semi_axes must be 3 positive lengths [m], got {semi_axes!r}")
-    axes = np.array([_positive_scalar(x, f"semi_axes[{i}] [m]") for i, x in enumerate(axes)])
+    axes = np.array([_size(x, f"semi_axes[{i}]") for i, x in enumerate(axes)])
     n_lat = _count(n_lat, "n_lat", 2, MAX_TRIANGLES // 6 + 1)
     n_lon = _count(n_lon, "n_lon", 3, MAX_TRIANGLES // 2)
     if 2 * (n_lat - 1) * n_lon > MAX_TRIANGLES:

@@ -130,6 +130,25 @@ def test_area_gradient_finite_at_zero_immersion():
     assert np.isfinite(float(jax.grad(flat)(0.0)))
 
 
+@pytest.mark.parametrize("dtype, eps", [(jnp.float32, 1e-20), (jnp.float64, 1e-160)])
+def test_a_barely_wetted_triangles_gradients_are_its_scaled_gradients(dtype, eps):
+    """(2026-12-06, a review) Every clipped integral per unit area is homogeneous in the heights: the fraction of
+    degree 0, the centroid's weights too. So d/dzeta at eps * zeta is 1/eps times that at zeta. JAX's division rule
+    squared the tiny heights, underflowed, and gave +-inf for the fraction (the centroid: NaN) at eps = 1e-20 in
+    float32 and 1e-160 in float64, though the true values (~1e19, ~1e159) are representable."""
+    from jaxskip.clipping import clip_weights
+
+    for zeta in ([-1.0, 1.0, 1.0], [-1.0, -2.0, 0.5], [1.0, -2.0, 3.0]):
+        zeta = jnp.asarray(zeta, dtype)
+        for output in (lambda w: w[0], lambda w: w[1]):
+            unit = jax.jacfwd(lambda z: output(clip_weights(z)))(zeta)
+            tiny = jax.jacfwd(lambda z: output(clip_weights(z)))(zeta * eps)
+            reverse = jax.jacrev(lambda z: output(clip_weights(z)))(zeta * eps)
+            for jac in (tiny, reverse):
+                assert np.all(np.isfinite(np.asarray(jac, np.float64)))
+                np.testing.assert_allclose(np.asarray(jac, np.float64) * eps, np.asarray(unit, np.float64), rtol=1e-5)
+
+
 @pytest.mark.parametrize("law,velocity,sharpness", [("bocquet", "body", None), ("seed", "local", None),
                                                     ("bocquet", "local", 400.0), ("seed", "body", None),
                                                     ("bocquet", "body", 400.0)])

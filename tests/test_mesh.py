@@ -1,6 +1,7 @@
 """Tests for jaxskip.mesh and jaxskip.stones (numpy only, fast)."""
 
 import math
+import os
 
 import numpy as np
 import pytest
@@ -19,6 +20,7 @@ from jaxskip.stones import (
     STONE_DENSITY,
     clanet_disk,
     disk,
+    ellipsoid_pebble,
     irregular_pebble,
     load_stone,
     paper_stone,
@@ -147,6 +149,9 @@ def test_irregular_pebble_is_deterministic_per_seed():
     a, b, c = irregular_pebble(seed=3), irregular_pebble(seed=3), irregular_pebble(seed=4)
     np.testing.assert_array_equal(a.vertices, b.vertices)
     assert not np.allclose(a.vertices, c.vertices)
+    # a NumPy integer roughness is a number like any other (refused as "must lie in [0, 1), got np.int64(0)")
+    np.testing.assert_array_equal(irregular_pebble(seed=3, roughness=np.int64(0)).vertices,
+                                  irregular_pebble(seed=3, roughness=0.0).vertices)
 
 
 @pytest.mark.parametrize("call", [lambda: disk(0.04, 0.008, segments=2),
@@ -439,6 +444,10 @@ def test_read_obj_refuses_what_is_not_a_regular_file_and_oversized_meshes(tmp_pa
 
     with pytest.raises(MeshError, match="not a regular file"):
         read_obj("/dev/zero")  # read without end before
+    if hasattr(os, "mkfifo"):   # a named pipe: opening it waited for a writer, without end (2026-12-06)
+        os.mkfifo(tmp_path / "pipe.obj")
+        with pytest.raises(MeshError, match="not a regular file"):
+            read_obj(tmp_path / "pipe.obj")
     with pytest.raises(MeshError, match="file name"):
         read_obj(None)
     path = tmp_path / "b.obj"
@@ -452,9 +461,14 @@ def test_read_obj_refuses_what_is_not_a_regular_file_and_oversized_meshes(tmp_pa
 
 
 @pytest.mark.parametrize("call, message", [
-    (lambda: paper_stone(radius="0.05"), "radius .* must be a real number > 0, got '0.05'"),
-    (lambda: disk(True, True), "radius .* must be a real number > 0, got True"),
-    (lambda: paper_stone(radius=10**400), "radius .* beyond the floating-point range"),
+    (lambda: paper_stone(radius="0.05"), r"radius must be a real number in \[1e-06, 100\] m, got '0.05'"),
+    (lambda: disk(True, True), r"radius must be a real number in \[1e-06, 100\] m, got True"),
+    (lambda: paper_stone(radius=10**400), "radius must be finite .* beyond the floating-point range"),
+    # (2026-12-06) sizes beyond floating point's reach were "degenerate" triangles, advice no one could act on
+    (lambda: paper_stone(1e-120, 1e-120), r"radius must be in \[1e-06, 100\] m, got 1e-120"),
+    (lambda: disk(1.0, 1e-14), r"thickness must be in \[1e-06, 100\] m, got 1e-14"),
+    (lambda: ellipsoid_pebble((1e-160,) * 3), r"semi_axes\[0\] must be in \[1e-06, 100\] m"),
+    (lambda: paper_stone(1e200, 1e200), r"radius must be in \[1e-06, 100\] m, got 1e\+200"),
     (lambda: mass_properties(box(0.04, 0.03, 0.01), mass=1e308), "must be finite and > 0"),
     (lambda: mass_properties(box(0.04, 0.03, 0.01), density=1e-320), "must be finite and > 0"),
     (lambda: box(0.04, 0.03, 0.01).translated("abc"), "offset must be real numbers"),

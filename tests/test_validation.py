@@ -370,6 +370,16 @@ def test_audit_fixes_session_17(tmp_path):
     tiny = dataclasses.replace(mesh, vertices=np.asarray(mesh.vertices) * 0.01)
     with pytest.raises(ParameterError, match="its size"):
         rigid_stone(tiny, density=2650.0)
+    # (2026-12-06) far out of range, a mass or volume overflowed first: "a density or mass beyond any physical
+    # range?" at 1e100, and "signed volume is nan m^3 <= 0, so the faces point inward" at 1e150
+    huge = dataclasses.replace(mesh, vertices=np.asarray(mesh.vertices) * 1e100)
+    for given in (dict(density=2650.0), dict(mass=0.1)):
+        with pytest.raises(ParameterError, match=r"its size \(bounding radius\) must be in \[1 mm, 1 m\], got about "
+                                                 r"4\.92e\+98 to 9\.85e\+98 m"):
+            rigid_stone(huge, **given)
+    with pytest.raises(MeshError, match=r"its volume overflows the floating-point range \(vertex coordinates up to "
+                                        r"4\.99e\+148\); vertices are read in metres"):
+        rigid_stone(dataclasses.replace(mesh, vertices=np.asarray(mesh.vertices) * 1e150), density=2650.0)
     # help() shows every field's units (attribute docstrings are appended to the class docstring)
     text = pydoc.render_doc(SimConfig, renderer=pydoc.plaintext)
     assert "Time step in and near the water [s], in (0, 0.01]" in text
