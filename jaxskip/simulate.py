@@ -97,6 +97,9 @@ MAX_BOUNCE_CLEARANCE = 0.01
 """Largest :attr:`SimConfig.bounce_clearance` [m]: 1 cm, ten times the default. (At 1 m the default throw
 was one contact that never ended: 0 bounces, and no error.)"""
 
+MAX_SLOPE = 1000.0
+"""Largest ``max_slope`` [m/m] of a surface for :func:`make_step` (a steeper one: ``SimConfig(flight="step")``)."""
+
 
 @document_fields
 @dataclasses.dataclass(frozen=True)
@@ -824,19 +827,28 @@ def rotation_cap(stone: RigidStone, R, L):
     return jnp.where(capped, turn / jnp.where(capped, rate, 1.0), jnp.inf)
 
 
-def _step_length(config, stone, water, state: StoneState, gap, wet, R, L):
+def _closing_bound(config, stone, state: StoneState, max_slope: float):
+    """``b`` [m/s]: no point of the stone comes down towards the surface faster than ``-b + g t`` (``b`` =
+    the vertical speed less the rim's speed |ω| R, less ``max_slope`` times the fastest horizontal
+    speed of a point of the stone: the surface under it rises at most that fast)."""
+    spin = 0.0 if config.attitude == "fixed" else jnp.sqrt(jnp.sum(state.angular_velocity**2) + 1e-30)
+    b = state.velocity[2] - spin * stone.radius
+    if max_slope:   # (a static 0 for flat water: its graph unchanged)
+        b = b - max_slope * (jnp.sqrt(jnp.sum(state.velocity[:2] ** 2) + 1e-30) + spin * stone.radius)
+    return b
+
+
+def _step_length(config, stone, water, state: StoneState, gap, wet, b, R, L):
     """Conservative-advancement step length [s] and whether the step is certainly dry.
 
-    A jump never passes ``config.duration`` (the run ends there, by ``time_limit``). With smooth
-    clipping (``ForceModel(sharpness=κ)``) the water loads the stone from ``1/(2κ)`` above the
-    surface, so the jump aims that far above it. With the free attitude a jump is also held to
-    :func:`rotation_cap` (``R`` (3, 3) and ``L`` (3,): the attitude and world angular momentum).
+    ``b``: :func:`_closing_bound`. A jump never passes ``config.duration`` (the run ends there, by
+    ``time_limit``). With smooth clipping (``ForceModel(sharpness=κ)``) the water loads the stone from
+    ``1/(2κ)`` above the surface, so the jump aims that far above it. With the free attitude a jump is
+    also held to :func:`rotation_cap` (``R`` (3, 3) and ``L`` (3,): the attitude and world angular momentum).
     """
     g = water.gravity
     if config.force.sharpness is not None:
         gap = gap - 0.5 / config.force.sharpness
-    spin = 0.0 if config.attitude == "fixed" else jnp.sqrt(jnp.sum(state.angular_velocity**2) + 1e-30)
-    b = state.velocity[2] - spin * stone.radius
     dry = (gap > 0.0) & (wet <= 0.0)
     arg = jnp.where(dry, b * b + 2.0 * g * gap, 1.0)
     t_star = jnp.where(dry, (b + jnp.sqrt(arg)) / g, 0.0)
@@ -850,7 +862,20 @@ def _step_length(config, stone, water, state: StoneState, gap, wet, R, L):
     return step, dry & (t_star >= config.dt)
 
 
-def make_step(config: SimConfig, surface=flat_surface, push: bool = False):
+def _check_max_slope(config: SimConfig, surface, max_slope):
+    """``max_slope`` as a float: 0 for flat water when not given; required (a :class:`ParameterError`) for
+    another surface when the flight jumps (a jump that assumed flat water landed 10 mm inside a swell)."""
+    if max_slope is None:
+        if surface is flat_surface or config.flight == "step":
+            return 0.0
+        raise ParameterError("max_slope: with a surface other than flat water, a flight jump must know how fast the "
+                             "surface can rise under the moving stone: give max_slope, the steepest slope |grad h| "
+                             "of the surface [m/m] where the stone flies (0 for a surface that is flat there), or "
+                             "SimConfig(flight='step')")
+    return check_range("max_slope", max_slope, 0.0, MAX_SLOPE, unit="m/m")
+
+
+def make_step(config: SimConfig, surface=flat_surface, push: bool = False, max_slope: float | None = None):
     """Return the pure step ``step(carry, stone, water) -> (carry, record)``.
 
     ``carry = (StoneState, Tracker)``: start it from :func:`initial_carry` (a tracker whose ``alive``
@@ -859,7 +884,10 @@ def make_step(config: SimConfig, surface=flat_surface, push: bool = False):
     :func:`rollout` does (which also skips finished segments and checkpoints the steps; a plain scan
     of this step equals it). Inside ``jax.shard_map`` give ``check_vma=False``: the step's branches
     mix device-varying and constant values. ``surface(x, y) -> h`` is the water height
-    [m] (flat water by default; the height-field model supplies its own).
+    [m] (flat water by default; the height-field model supplies its own). ``max_slope``: the steepest
+    slope |∇h| of ``surface`` [m/m, in [0, 1000]] over where the stone flies; a flight jump lets the
+    surface rise that fast under the moving stone. Default 0 for flat water (or ``SimConfig(flight="step")``,
+    whose steps are all fine); required with another surface.
     ``push=True``: the step returns ``(carry, record, (forces, centroids))`` as well, the
     per-triangle water forces (F, 3) [N] on the stone at the start of the step and their
     immersed centroids (F, 3) [m] (zeros once out of play), for the coupled water.
@@ -870,6 +898,7 @@ def make_step(config: SimConfig, surface=flat_surface, push: bool = False):
                              f"{type(surface).__name__}")
     if not isinstance(push, (bool, np.bool_)):
         raise ParameterError(f"make_step: push must be True or False, got {push!r}")
+    max_slope = _check_max_slope(config, surface, max_slope)
 
     def live_step(carry, stone: RigidStone, water: WaterParams):
         state, tr = carry
@@ -882,7 +911,8 @@ def make_step(config: SimConfig, surface=flat_surface, push: bool = False):
         above = vertex_heights(stone, state.position, R, surface)
         gap = face_min(above)
         top = face_max(above)
-        dt, dry = _step_length(config, stone, water, state, gap, wet_area, R, L)
+        b = _closing_bound(config, stone, state, max_slope)
+        dt, dry = _step_length(config, stone, water, state, gap, wet_area, b, R, L)
 
         # --- bookkeeping at the state at the start of the step ---
         t = state.time
@@ -892,7 +922,11 @@ def make_step(config: SimConfig, surface=flat_surface, push: bool = False):
         begin = tr.alive & wet & (tr.phase == AIR)
         leave = tr.alive & ~wet & (tr.phase == WET)
         rewet = tr.alive & wet & (tr.phase == LEAVING)
-        bounce = tr.alive & ~wet & (tr.phase == LEAVING) & (gap > config.bounce_clearance)
+        # The lowest point is at least gap + b t - g t^2 / 2 above the surface t into the step: a step that
+        # passes that bound's peak above the clearance confirms the bounce now (a jump stepped over the top of a
+        # hop rising 1.08 mm and merged it into the contact before: checked at step starts alone).
+        peak = (b > 0.0) & (b < water.gravity * dt) & (gap + b * b / (2.0 * water.gravity) > config.bounce_clearance)
+        bounce = tr.alive & ~wet & (tr.phase == LEAVING) & ((gap > config.bounce_clearance) | (dry & peak))
         idx_new = jnp.minimum(tr.contacts, k - 1)
         log_new = begin & (tr.contacts < k)
         idx_cur = jnp.clip(tr.contacts - 1, 0, k - 1)
@@ -1066,7 +1100,8 @@ def _one_float_type(*trees):
     return tuple(jax.tree_util.tree_map(cast, t) for t in trees)
 
 
-def rollout(config: SimConfig, throw: Throw, stone: RigidStone, water: WaterParams, surface=flat_surface):
+def rollout(config: SimConfig, throw: Throw, stone: RigidStone, water: WaterParams, surface=flat_surface,
+            max_slope: float | None = None):
     """Simulate one throw for ``config.max_steps`` steps: pure, jit/vmap/grad-able.
 
     Returns ``(state, tracker, records)``: the final :class:`StoneState`, the
@@ -1090,8 +1125,10 @@ def rollout(config: SimConfig, throw: Throw, stone: RigidStone, water: WaterPara
     height [m] above the rest level z = 0 at world coordinates ``x, y`` [m] (arrays of any shape; ``h``
     of the same shape), fixed in time. Default :func:`jaxskip.forces.flat_surface` (flat water, the
     fast path). The release state is still placed ``throw.height`` above z = 0, not above ``surface``.
-    It is passed to :func:`make_step`; for :data:`rollout_jit` it is a static argument, so it must be
-    hashable (a function is, by identity: each new function or lambda compiles anew).
+    It is passed to :func:`make_step`, with ``max_slope`` (required with a surface other than flat water
+    unless ``config.flight == "step"``: the steepest slope of ``surface`` [m/m] where the stone flies); for
+    :data:`rollout_jit` both are static arguments, so they must be hashable (a function is, by identity:
+    each new function or lambda compiles anew).
 
     >>> import jax
     >>> from jaxskip import SimConfig, Throw, paper_stone, rigid_stone, water_params
@@ -1104,7 +1141,7 @@ def rollout(config: SimConfig, throw: Throw, stone: RigidStone, water: WaterPara
     _check_rollout_args(config, throw, stone, water)
     _check_concrete_throw(throw)
     throw, stone, water = _one_float_type(throw, stone, water)
-    step = make_step(config, surface)
+    step = make_step(config, surface, max_slope=max_slope)
     (state, tr), recs = _scan(config, step, initial_carry(config, throw, stone), stone, water)
     return state, tr.finish(), (recs if config.record else None)
 
@@ -1117,13 +1154,15 @@ def _check_concrete_throw(throw) -> None:
         throw.check()
 
 
-_rollout_compiled = jax.jit(rollout, static_argnames=("config", "surface"))
+_rollout_compiled = jax.jit(rollout, static_argnames=("config", "surface", "max_slope"))
 
 
-def rollout_jit(config: SimConfig, throw: Throw, stone: RigidStone, water: WaterParams, surface=flat_surface):
+def rollout_jit(config: SimConfig, throw: Throw, stone: RigidStone, water: WaterParams, surface=flat_surface,
+                max_slope: float | None = None):
     _check_rollout_args(config, throw, stone, water)
     _check_concrete_throw(throw)   # (inside the jitted function the values are traced)
-    return _rollout_compiled(config, throw, stone, water, surface=surface)
+    max_slope = _check_max_slope(config, surface, max_slope)   # (checked before tracing; a float, hashable)
+    return _rollout_compiled(config, throw, stone, water, surface=surface, max_slope=max_slope)
 
 
 rollout_jit.lower = _rollout_compiled.lower
@@ -1131,7 +1170,7 @@ rollout_jit.__doc__ = """:func:`rollout` compiled once per (config, surface); ne
 of the same size and water constants reuse it (leaves of the same dtype: a Python float or a weakly typed
 scalar compiles apart, see :class:`Throw`). Arguments and returns as :func:`rollout`; ``config`` and
 ``surface`` are static (hashable: a :class:`SimConfig`, and a callable ``surface(x, y) -> height`` [m],
-default flat water, hashed by identity).
+default flat water, hashed by identity; ``max_slope`` a number).
 
 >>> from jaxskip import SimConfig, Throw, paper_stone, rigid_stone, water_params
 >>> stone, water = rigid_stone(paper_stone(), density=2650.0), water_params()

@@ -7,8 +7,8 @@ import jax.numpy as jnp
 import numpy as np
 import pytest
 
-from jaxskip import (ForceModel, SimConfig, Throw, clanet_disk, ellipsoid_pebble, initial_state, rigid_stone, rollout,
-                     rollout_jit, steps_for)
+from jaxskip import (ForceModel, SimConfig, Throw, clanet_disk, ellipsoid_pebble, initial_carry, initial_state, rigid_stone,
+                     rollout, rollout_jit, steps_for)
 from jaxskip import quaternion as quat
 from jaxskip.simulate import free_rotation
 
@@ -223,7 +223,7 @@ def test_surface_is_sampled_under_each_vertex(paper, water):
     """The water height is read under every vertex, not at the centre of mass: with water 1 m up
     only within 1 cm of the centre (x), the rim is dry, so the stone has not sunk."""
     surface = lambda x, y: jnp.where(jnp.abs(x) < 0.01, 1.0, -1.0)
-    config = SimConfig(max_steps=1, record=False)
+    config = SimConfig(max_steps=1, record=False, flight="step")   # (a cliff: no slope bound for a jump)
     from jaxskip.simulate import OUTCOMES, make_step, _new_tracker
 
     step = make_step(config, surface)
@@ -231,6 +231,52 @@ def test_surface_is_sampled_under_each_vertex(paper, water):
     (_, tracker), _ = jax.jit(lambda c: step(c, paper, water))((state0, _new_tracker(4, jnp.float64)))
     assert OUTCOMES[int(tracker.outcome)] == "running"
     assert int(tracker.contacts) == 1  # the centre triangles are wet
+
+
+def test_a_flight_jump_over_a_swell_lands_where_fine_steps_do(paper, water):
+    """(2026-12-06, a review) The flight jump's bound assumed flat water: over a 3 cm swell the default throw's
+    first contact began 2.9 ms late, 10 mm inside the crest (fine steps: 0.1 mm). A surface other than flat water
+    now needs ``max_slope`` (refused by name without it), and the jump allows for the surface rising under the
+    moving stone: the contact begins within one fine step of the fine-stepped one."""
+    from jaxskip import ParameterError
+
+    swell = lambda x, y: 0.03 * jnp.cos(2.0 * jnp.pi * (x - 1.0) / 0.3)   # slope at most 0.03 * 2 pi / 0.3 = 0.63
+    throw = Throw.from_degrees(speed=8.0, tilt=20.0, attack=-3.0, spin=0.0, height=0.08)
+    config = SimConfig(duration=0.2, max_steps=2000)
+    with pytest.raises(ParameterError, match=r"max_slope: with a surface other than flat water"):
+        rollout_jit(config, throw, paper, water, surface=swell)
+    with pytest.raises(ParameterError, match=r"max_slope must be in \[0, 1000\] m/m, got -1"):
+        rollout_jit(config, throw, paper, water, surface=swell, max_slope=-1.0)
+    starts = {}
+    for flight, slope in (("jump", 0.63), ("step", None)):
+        cfg = dataclasses.replace(config, flight=flight)
+        _, tracker, _ = rollout_jit(cfg, throw, paper, water, surface=swell, max_slope=slope)
+        starts[flight] = float(tracker.t_start[0])
+    assert starts["step"] == pytest.approx(0.1615, abs=1e-4)
+    assert abs(starts["jump"] - starts["step"]) <= config.dt
+
+
+@pytest.mark.parametrize("rise", [0.140, 0.145])
+def test_a_hop_whose_top_a_jump_steps_over_still_counts(paper, water, rise):
+    """(2026-12-06, a review) A bounce was confirmed only when a step began more than ``bounce_clearance`` (1 mm)
+    above the water: a jump could step over the top of a hop rising to 1.01-1.08 mm, and the hop was merged into
+    the contact (fine steps counted it). A stone certainly above the clearance within a dry step now bounces."""
+    from jaxskip.simulate import _CONTACTS, _PHASE, LEAVING, make_step
+
+    counts = {}
+    for flight in ("jump", "step"):
+        config = SimConfig(attitude="fixed", flight=flight)
+        state, tracker = initial_carry(config, Throw.from_degrees(speed=8.0, tilt=20.0, attack=0.0, spin=0.0,
+                                                                  height=1e-5), paper)
+        # just left the water after one contact (phase LEAVING), lowest point 0.01 mm up, rising at `rise`
+        state = dataclasses.replace(state, velocity=jnp.array([8.0, 0.0, rise]))
+        tracker = dataclasses.replace(tracker, counters=tracker.counters.at[_PHASE].set(LEAVING).at[_CONTACTS].set(1),
+                                      log=tracker.log.at[0, 0].set(0.0))
+        step, carry = jax.jit(make_step(config)), (state, tracker)
+        for _ in range(60):
+            carry, _ = step(carry, paper, water)
+        counts[flight] = int(carry[1].bounces)
+    assert counts == {"jump": 1, "step": 1}
 
 
 def test_contact_torque_precesses_the_tilt_at_a_rate_inverse_to_spin(water):
