@@ -31,7 +31,7 @@ from . import quaternion
 from .mesh import TriMesh
 from .coupled import (check_shared_constants, check_window_fits, coupled_interval, coupled_substeps, initial_field,
                       make_coupled_step)
-from .simulate import (_ALIVE, DIVERGED, OUTCOMES, DivergedWarning, STEP_LIMIT, SimConfig, StoneState, Tracker, _new_tracker, _scan,
+from .simulate import (_ALIVE, DIVERGED, LEAVING, OUTCOMES, DivergedWarning, STEP_LIMIT, SimConfig, StoneState, Tracker, _new_tracker, _scan,
                        diverged_message, initial_state, make_step, warn_if_coarse, warn_if_unstable)
 from .stones import BUILTIN_STONES, load_stone
 from .throw import Throw
@@ -573,14 +573,22 @@ def simulate(
     along = np.array([math.cos(heading), math.sin(heading)])  # release is at x = y = 0
     # The contact log's first k rows, as host float64 columns (one NumPy op per column, not per contact).
     t_start, t_end = (np.asarray(a[:k], dtype=np.float64) for a in (tr.t_start, tr.t_end))
+    tilt_end = np.asarray(tr.tilt_end[:k], dtype=np.float64)
+    x_end = np.asarray(tr.x_end[:k, :2], dtype=np.float64)
+    if k and not np.isfinite(t_end[-1]) and int(tr.phase) == LEAVING and k == int(tr.contacts):
+        # The run ended after the last contact's stone left the water but before it rose clear of it (a bounce
+        # is confirmed there): its end is where it left (it read as "in the water at the end", t_end the run's end).
+        leave = np.asarray(tr.leave, dtype=np.float64)
+        t_end, tilt_end, x_end = t_end.copy(), tilt_end.copy(), x_end.copy()
+        t_end[-1], tilt_end[-1], x_end[-1] = leave[0], leave[1], leave[2:4]
     ended = np.isfinite(t_end)
-    x_end = np.where(ended[:, None], np.asarray(tr.x_end[:k, :2]), np.asarray(state.position[:2])[None])
+    x_end = np.where(ended[:, None], x_end, np.asarray(state.position[:2])[None])
     columns = dict(
         t_start=t_start,
         t_end=np.where(ended, t_end, end_time),
         x=[float(row @ along) for row in np.asarray(tr.x_start[:k, :2])],  # (row by row: the same rounding)
         tilt_start=np.asarray(tr.tilt_start[:k], dtype=np.float64),
-        tilt_end=np.where(np.isfinite(tr.tilt_end[:k]), np.asarray(tr.tilt_end[:k], dtype=np.float64), np.nan),
+        tilt_end=np.where(np.isfinite(tilt_end), tilt_end, np.nan),
         x_end=[float(row @ along) for row in x_end],
         tilt_direction_start=_tilt_directions(traj, t_start, heading),
         tilt_direction_end=_tilt_directions(traj, t_end, heading),

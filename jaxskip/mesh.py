@@ -302,6 +302,12 @@ def validate_mesh(vertices, faces, *, name: str = "mesh", _numbering: _Numbering
     follows from the divergence theorem,
     ``V = (1/6) sum_f v0 . (v1 x v2)``, and is positive iff the normals point
     outward.
+
+    Not checked: self-intersection. A surface folded through itself (the paper stone's top pole pushed
+    through its bottom) passes, with a volume that counts the fold negatively (1.27e-5 against 4.55e-5 m^3)
+    and faces in the fold whose normals point into the stone, so its mass and its water forces are wrong.
+    Meshes made by the constructors of :mod:`jaxskip.stones` never fold; check a mesh from elsewhere in a
+    mesh tool.
     """
     v = _as_vertices(vertices, name)
     f = _as_faces(faces, name)

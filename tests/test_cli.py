@@ -291,6 +291,20 @@ def test_json_has_null_for_values_that_are_not_finite(capsys):
     assert all(c["tilt_end"] is not None for c in out["contacts"][:-1])
 
 
+def test_a_run_that_ends_just_after_the_stone_left_the_water_says_where_it_left(capsys):
+    """(2026-12-06, a review) At --duration 0.0297 s the default stone had left the water at 0.0295 s but not yet
+    risen 1 mm clear of it (a bounce is confirmed there): its contact read "(in the water at the end)", with
+    t_end the run's end and no exit tilt. The contact now ends where the stone left the water."""
+    assert main(["throw", "--duration", "0.0297", "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    (contact,) = out["contacts"]
+    assert out["bounces"] == 0 and out["outcome"] == "time_limit"
+    assert contact["t_end"] == pytest.approx(0.0295, abs=1e-9)
+    assert contact["tilt_end_deg"] is not None and 0.0 < contact["tilt_end_deg"] < 20.0
+    assert main(["throw", "--duration", "0.0297"]) == 0
+    assert "(in the water at the end)" not in capsys.readouterr().out
+
+
 def test_passive_water_from_the_command_line(capsys):
     """--velocity passive reaches the force law (the JSON says so) and changes the throw: the default throw's
     free stone, pumped by the body law's wobble (README, "The default free stone gains energy"), skips

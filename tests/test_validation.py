@@ -771,6 +771,22 @@ def test_stone_at_the_density_range_edge_passes_its_own_check():
         rigid_stone(clanet_disk(), density=99.9)
 
 
+def test_a_stone_lighter_than_water_is_warned_of():
+    """(2026-12-06, a review) The force laws have no buoyancy, so a stone of 150 kg/m^3 dropped flat at 0.3 m/s was
+    reported "sank" in silence. rigid_stone now warns below fresh water's density (from a mass as well)."""
+    import warnings
+
+    from jaxskip import AccuracyWarning, clanet_disk, rigid_stone
+
+    with pytest.warns(AccuracyWarning, match=r"lighter than water \(150 kg/m\^3 < 1000\).*no buoyancy"):
+        rigid_stone(clanet_disk(), density=150.0)
+    with pytest.warns(AccuracyWarning, match="lighter than water"):
+        rigid_stone(clanet_disk(), mass=0.004)          # 745 kg/m^3
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        rigid_stone(clanet_disk(), density=1000.0)
+
+
 def test_a_throw_of_lists_or_of_traced_values_is_refused_by_name():
     """Throw(...) of Python lists passed check() and met a raw IndexError in simulate_batch (jax.tree_util
     splits a list up); simulate under jax.grad met JAX's TracerArrayConversionError in check()."""
