@@ -31,7 +31,7 @@ from jaxskip.notebook import notebook_mode
 RUN = notebook_mode("bocquet", here=globals().get("__file__"))  # no __file__ in a Jupyter kernel
 QUICK = RUN.quick
 
-from jaxskip import SimConfig, Throw, clanet_disk, rigid_stone, rollout, water_params  # noqa: E402 (after the float64 switch)
+from jaxskip import ForceModel, SimConfig, Throw, clanet_disk, rigid_stone, rollout, water_params  # noqa: E402 (after the float64 switch)
 from jaxskip.bocquet import ReducedStone, reduced_throw  # noqa: E402 (after the float64 switch)
 
 disk = rigid_stone(clanet_disk(), density=2700.0)
@@ -117,20 +117,26 @@ print(f"U_min: mesh {umin_mesh:.2f} m/s, reduced {umin_red:.2f} m/s (Clanet et a
 # the water's lift acts behind the centre of mass, and on a spinning disk that pitching torque
 # turns into precession (gyroscopic), so the tilt's azimuth turns by ~1/spin per contact and the
 # disk ends up banked sideways (it also curves). Measured on this disk at 8 m/s, the first contact
-# turns it 105° at 50 rev/s, 55° at 100 and 14° at 400 (tests/test_dynamics.py). A sideways bank skips differently from the held tilt (more
-# bounces at 65–200 rev/s: 51, 75, 140 at 65, 100, 200 rev/s against 12), and only as the drift
-# per contact vanishes (500 rev/s: 8 bounces) does the free disk approach the fixed-tilt
-# (high-spin) count that Bocquet's and Clanet's analyses assume.
+# turns it 105° at 50 rev/s, 55° at 100 and 14° at 400 (tests/test_dynamics.py). With the default force
+# law (`velocity="body"`) the banked disk makes far more bounces than the held tilt at 65–200 rev/s (51, 75,
+# 140 against 12), but those hops run on energy the water adds: each face's force is computed from the
+# centre of mass's velocity, so it can push on a face that is moving away from the water and pump the
+# wobble (README, "The default free stone gains energy"; here 4.02 → 5.68 J at 200 rev/s). The passive law
+# (`velocity="passive"`, which never adds energy) makes 1, 2, 3 bounces there, and both laws approach the
+# fixed-tilt (high-spin) count that Bocquet's and Clanet's analyses assume only as the drift per contact
+# vanishes (500 rev/s: 8 bounces each).
 
 # %%
 spins = np.array([0.0, 10.0, 40.0]) if QUICK else np.array([0.0, 5.0, 10.0, 20.0, 40.0, 65.0, 100.0, 200.0, 500.0])
 free = SimConfig(record=False, attitude="free", max_steps=60000)   # 200 rev/s: ~140 bounces
-free_batch = jax.jit(jax.vmap(lambda t: rollout(free, t, disk, water)))
-_, trs, _ = free_batch(Throw.from_degrees(speed=8.0, tilt=tilt, attack=5.0, spin=jnp.asarray(spins)))
+passive = SimConfig(record=False, attitude="free", max_steps=60000, force=ForceModel(velocity="passive"))
+spun = Throw.from_degrees(speed=8.0, tilt=tilt, attack=5.0, spin=jnp.asarray(spins))
+_, trs, _ = jax.jit(jax.vmap(lambda t: rollout(free, t, disk, water)))(spun)
+_, trp, _ = jax.jit(jax.vmap(lambda t: rollout(passive, t, disk, water)))(spun)
 _, trf, _ = jax.jit(lambda t: rollout(fixed, t, disk, water))(Throw.from_degrees(speed=8.0, tilt=tilt, attack=5.0,
                                                                                    spin=65.0))
 print("free-body bounces vs spin:", dict(zip(spins.tolist(), np.asarray(trs.bounces).tolist())),
-      f"; fixed tilt: {int(trf.bounces)}")
+      "\n  passive law:", dict(zip(spins.tolist(), np.asarray(trp.bounces).tolist())), f"; fixed tilt: {int(trf.bounces)}")
 
 # %%
 from matplotlib.ticker import LogLocator, MaxNLocator, NullFormatter, ScalarFormatter  # noqa: E402
@@ -177,14 +183,15 @@ ax[2].axvline(2.5, color="0.6", ls="--", label="Clanet ≈ 2.5 m/s")
 ax[2].yaxis.set_major_locator(MaxNLocator(integer=True))
 ax[2].set(xlabel="speed [m/s]", ylabel="bounces", title="minimum speed (tilt 20°, attack 20°)")
 ax[2].legend(fontsize=7)
-ax[3].plot(spins, np.asarray(trs.bounces), "o-", label="free body")
+ax[3].plot(spins, np.asarray(trs.bounces), "o-", label="free body (default law: the water adds energy)")
+ax[3].plot(spins, np.asarray(trp.bounces), "s-", label='free body, velocity="passive" (never adds energy)')
 ax[3].axhline(int(trf.bounces), color="k", ls=":", label="tilt held (infinite-spin limit)")
 ax[3].set_xscale("symlog", linthresh=10.0)
 ax[3].set_xlim(0.0, 1.5 * spins.max())
 ax[3].xaxis.set_major_formatter(ScalarFormatter())
 ax[3].yaxis.set_major_locator(MaxNLocator(integer=True))
 ax[3].set(xlabel="spin [rev/s]", ylabel="bounces", title="free disk vs spin (8 m/s): the tilt precesses")
-ax[3].legend(fontsize=7)
+ax[3].legend(fontsize=7, loc="upper left")
 fig.tight_layout()
 path = RUN.figure("bocquet.png")
 fig.savefig(path, dpi=110)
