@@ -11,6 +11,7 @@ closed by a single vertex at the top and at the bottom (see :func:`_ring_mesh`).
 
 from __future__ import annotations
 
+import dataclasses
 import functools
 import math
 import numbers
@@ -234,9 +235,10 @@ def clanet_disk(segments: int = 32) -> TriMesh:
     """Aluminium disk of Clanet, Hersen & Bocquet, Nature 427:29 (2004).
 
     Radius 0.025 m (5 cm diameter), thickness 0.00275 m; use
-    ``ALUMINIUM_DENSITY``.  See :func:`disk` for ``segments`` and the result.
+    ``ALUMINIUM_DENSITY``.  See :func:`disk` for ``segments`` and the result, named ``"clanet"`` (as
+    messages name it: a warning about the Clanet disk named "disk").
     """
-    return disk(0.025, 0.00275, segments)
+    return dataclasses.replace(disk(0.025, 0.00275, segments), name="clanet")
 
 
 def ellipsoid_pebble(semi_axes=(0.03, 0.025, 0.008), n_lat: int = 8, n_lon: int = 16) -> TriMesh:

@@ -136,6 +136,7 @@ def test_paper_stone_has_38_triangles():
 def test_builtin_stones(name):
     mesh, density = load_stone(name)
     assert density == (ALUMINIUM_DENSITY if name == "clanet" else STONE_DENSITY)
+    assert mesh.name == name   # (messages name the mesh: the Clanet disk's said "disk")
     validate_mesh(mesh.vertices, mesh.faces, name=name)
     props = mass_properties(mesh, density=density)
     assert props.volume > 0
