@@ -386,13 +386,14 @@ def _default_throw(x64: bool) -> Throw:
     return Throw.from_degrees()
 
 
-def checked_config(config) -> SimConfig:
+def checked_config(config, stacklevel: int = 4) -> SimConfig:
     """``config`` (None: ``SimConfig()``) after its type check; warns if its ``dt`` is coarse
-    (:class:`jaxskip.AccuracyWarning`)."""
+    (:class:`jaxskip.AccuracyWarning`), attributed ``stacklevel`` frames up (4: the caller of the function
+    that calls this one)."""
     config = SimConfig() if config is None else config
     if not isinstance(config, SimConfig):
         raise ParameterError(f"config must be a jaxskip.SimConfig, got {type(config).__name__}")
-    warn_if_coarse(config, stacklevel=4)
+    warn_if_coarse(config, stacklevel=stacklevel)
     return config
 
 

@@ -12,8 +12,8 @@ import math
 import sys
 
 from ._checks import ParameterError, check_int
-from .cli import (PICTURES, SIM_DEFAULTS, _float, _int, _say, add_common, check_output, describe, environment,
-                  plural, print_json, show_progress, sim_values, simulation)
+from .cli import (PICTURES, SIM_DEFAULTS, _energy_lines, _float, _int, _say, add_common, check_output, describe,
+                  environment, plural, print_json, show_progress, sim_values, simulation)
 
 RANGES = (("speed", "M/S", "speed [m/s]", (3.0, 12.0)), ("tilt", "DEG", "tilt [deg]", (5.0, 45.0)),
           ("attack", "DEG", "attack [deg]", (0.0, 30.0)), ("spin", "REV/S", "spin [rev/s]", (0.0, 20.0)))
@@ -248,6 +248,8 @@ def run_optimize(args) -> int:
         out = r.to_dict()
         out["throw_command"] = command
         out["throw_command_bounces"], out["throw_command_distance"] = single.bounces, single.distance
+        # (its stone's mechanical energy, as jaxskip throw --json gives it: a count the water's energy made shows)
+        out["throw_command_energy"] = single.to_dict()["energy"]
         if health is not None:
             out["gradient_norms"] = health
         # the stone as the user named it (the search was given the loaded RigidStone, which has no name)
@@ -270,6 +272,8 @@ def run_optimize(args) -> int:
         _say(f"cost: {r.forward_throws} exact throws, {r.gradient_evals} gradient evaluations, "
              f"{r.wall_time:.1f} s wall")
         _say(f"to throw it again: {command}")
+        for line in _energy_lines(single):   # (a record count may run on energy the default law's water adds)
+            _say(f"  {line}")
         if single.bounces != r.best_bounces:
             _say(f"  note: that command counts {plural(single.bounces, 'bounce')} ({single.distance:.2f} m): the search "
                  "counted its throws in batches, whose rounding differs from one throw's, and a long throw's "

@@ -214,6 +214,9 @@ def throw_in_box(layout: tuple, u, low, high, held) -> Throw:
     the water (``height``) heading along +x, as every search throws."""
     names, held_names = layout
     dtype = jnp.result_type(float)
+    u = jnp.asarray(u)   # (a list met a raw TypeError at u[..., i], an integer array one in the sigmoid)
+    if not jnp.issubdtype(u.dtype, jnp.floating):
+        u = u.astype(dtype)
     low, high, held = (jnp.asarray(a, dtype=dtype) for a in (low, high, held))
     values = {name: held[j] for j, name in enumerate(held_names)}
     for i, name in enumerate(names):

@@ -162,7 +162,8 @@ def _recorded(search):
         bound = signature.bind(*args, **kwargs)
         bound.apply_defaults()
         given = dict(bound.arguments)
-        config = checked_config(given.pop("config"))
+        config = given.pop("config")   # (checked, and warned of, by the search itself: _common)
+        config = SimConfig() if config is None else config
         water = given.pop("water")
         water = water_params(config.force.law) if water is None else water
         stone = given.pop("stone")
@@ -362,8 +363,9 @@ def _as_box(box) -> Box:
 
 
 def _common(box, config, progress) -> tuple:
-    """The arguments every search takes, checked: ``(Box, SimConfig, bool)`` (:func:`_as_box`)."""
-    return _as_box(box), checked_config(config), check_bool("progress", progress)
+    """The arguments every search takes, checked: ``(Box, SimConfig, bool)`` (:func:`_as_box`). A coarse ``dt`` is
+    warned of once, attributed to the search's caller (through the search and :func:`_recorded`'s wrapper)."""
+    return _as_box(box), checked_config(config, stacklevel=6), check_bool("progress", progress)
 
 
 def _check_seed(seed) -> int:
@@ -416,7 +418,8 @@ def gradient_search(box: Box | None = None, *, objective: str = "bounces", stone
     the surrogate's sharpness knob (:mod:`optimize.objectives`).
     ``initial``: a throw to start from, {parameter: value} in user units for every searched
     parameter (inside the box), and no other (a held parameter is refused, not dropped); it
-    replaces the first start (the best screened throw with ``screen``). A value on a bound (attack 0 in
+    replaces the first start (with ``screen``, the last: the weakest screened throw picked, and then
+    ``starts`` must be at least 2). A value on a bound (attack 0 in
     :data:`~optimize.bounds.HUMAN_BOX`) maps to u = ±13.8, where the sigmoid's slope is ~1e-6: Adam moves u
     by at most about ``learning_rate`` a step, so the parameter stays on the bound for ~13.8 /
     ``learning_rate`` iterations (46 at the default 0.3; a review measured attack 0.0001 deg after 8):
@@ -478,6 +481,10 @@ def gradient_search(box: Box | None = None, *, objective: str = "bounces", stone
     if 0 < screen < starts:
         raise ParameterError(f"screen must be 0 or at least starts ({starts}): the starts are the best of the "
                              f"screened throws; got {screen}")
+    if screen and initial is not None and starts == 1:
+        # (the best screened throw was then in no history entry the polish and the picture read)
+        raise ParameterError("screen must be 0 when initial takes the only start (starts=1): the screen picks the "
+                             "starts; give starts >= 2 to start from both")
     check_range("polish_scale", polish_scale, 0.0, 1.0, low_open=True)
     check_range("learning_rate", learning_rate, 0.0, MAX_STEP, low_open=True)
     check_positive("clip", clip)
@@ -509,8 +516,11 @@ def gradient_search(box: Box | None = None, *, objective: str = "bounces", stone
     else:
         points = _random_points(box, starts, rng)
     if initial is not None:
+        # the first start, or with a screen the last (the weakest picked: the best screened throw still starts, so
+        # the history's points, which the polish and the picture read, hold it)
+        slot = starts - 1 if screen else 0
         for name, value in initial.items():
-            points[name][0] = value
+            points[name][slot] = value
     u = float_array(box.from_user(points))
     args = (u, tuple(float_array(a) for a in box.numbers()), float_leaves(rigid), float_leaves(water),
             float_array(width))

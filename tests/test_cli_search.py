@@ -185,6 +185,22 @@ def test_optimize_prints_the_throw_command_that_reproduces_its_best(capsys):
     assert (t["parameters"]["dt"], t["parameters"]["c_lift"], t["parameters"]["attitude"]) == (5e-4, 1.6, "fixed")
     assert main(argv) == 0
     assert f"to throw it again: {r['throw_command']}" in capsys.readouterr().out
+    assert r["throw_command_energy"] == t["energy"]   # (2026-12-06) its energy too, as the throw command gives it
+
+
+def test_optimize_says_when_its_best_throw_ran_on_energy_the_water_added(capsys):
+    """(2026-12-06, a review) A search over spins up to 200 rev/s returned a record throw whose stone gained energy
+    from the water (the default law's known fault), without a word. The summary gives the best throw's energy, and
+    notes the gain as `jaxskip throw` does."""
+    argv = ["optimize", "--method", "random", "--throws", "4", "--spin-range", "25", "200", "--duration", "0.5",
+            "--seed", "0"]
+    assert main(argv + ["--json"]) == 0
+    energy = json.loads(capsys.readouterr().out)["throw_command_energy"]
+    assert energy["peak"] > energy["release"] and energy["gain"] > 0.0
+    assert main(argv) == 0
+    out = capsys.readouterr().out
+    assert f"mechanical energy of the stone: {energy['release']:.3g} J at release" in out
+    assert "(the water added energy:" in out and "--velocity passive never adds any" in out
 
 
 def test_optimize_takes_the_simulation_flags_of_throw(capsys):
