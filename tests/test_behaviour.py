@@ -30,8 +30,9 @@ def test_default_throw_skips_at_least_five_times():
 
 def test_high_spin_count_does_not_fall_with_speed(paper, water):
     """High-spin limit (tilt held): strictly monotone. Free body at Clanet's reference spin of
-    65 rev/s: the mean over an ensemble of attack angles is monotone (single free throws vary by
-    a few bounces: the late hops are chaotic). At 30-50 rev/s the free stone is not yet in the
+    65 rev/s: the mean over an ensemble of attack angles is monotone (measured 2026-12-06: 2 / 4 / 7 /
+    59.25 / 67.5 at 4-12 m/s), single free throws are not: the late hops are chaotic, and attack 8 deg
+    counts 2 / 6 / 3 / 54 / 44 (README, "Known limits"). At 30-50 rev/s the free stone is not yet in the
     high-spin regime (measured: at 30 rev/s throws flip at 12 m/s and the mean dips)."""
     speeds = [4.0, 6.0, 8.0, 10.0, 12.0]
     fixed = SimConfig(record=False, attitude="fixed", max_steps=20000, duration=20.0)
