@@ -191,8 +191,8 @@ def simulate_batch(
     lanes : throws advanced together (the vmapped batch), an integer in [1, 10^6]; at most N, then raised to at
         least :data:`MIN_LANES_PER_DEVICE` per device and rounded up to a multiple of the device count (idle lanes
         ride along), so that a throw's numbers do not depend on N, on ``lanes`` or on the device count. Default
-        (``None``): :func:`default_lanes` of N and the device count — about N/64 lanes per
-        device, a power of two in [8, 256]. With several local JAX devices (``import jaxskip``
+        (``None``): :func:`default_lanes` of N and the device count — about N/32 lanes per
+        device, a power of two in [8, 128]. With several local JAX devices (``import jaxskip``
         makes one CPU device per core) the lanes are sharded over all of them
         (``jax.sharding``; a given count is rounded up to a multiple of the device count).
     chunk : steps between refills, an integer >= 1 that divides ``config.max_steps`` (default: the divisor
@@ -296,24 +296,30 @@ def simulate_batch(
 
 def default_lanes(n: int, devices: int = 1) -> int:
     """Lanes for a batch of ``n`` throws on ``devices`` devices: per device, the power of two
-    nearest below ``n / 64``, within [8, 256].
+    nearest below ``n / 32``, within [8, 128].
 
     A lane whose throw has finished idles (and still costs) once no throws are left to refill
-    it, so a pool as wide as a small batch pays for the longest throw in every lane. About 64
-    throws per lane keep that tail short; 8 lanes amortise the per-step dispatch, and beyond 256
-    a step on this kind of CPU is arithmetic-bound. Each device advances its own share of the
-    lanes at the same time, so the tail costs the same wall time with ``devices`` times the
-    lanes. Measured on 2 cores (benchmarks/README.md): 512 random throws of the human box cost
-    5.7 / 7.8 / 19.8 ms per throw at 8 / 32 / 256 lanes on one device; a 4096-throw grid costs
-    the same at 64 and 256 lanes on one device, and 5.0 / 4.1-4.4 / 3.6-3.8 s at 64 / 128 / 256
-    lanes on two.
+    it, so a pool as wide as a small batch pays for the longest throw in every lane; a wider
+    pool costs less per lane-step. Measured, n / 32 lanes on each device balance the two (32 throws
+    a lane on one device, 16 on two: each device advances its own share of the lanes at the same
+    time), 8 lanes amortise the per-step dispatch, and beyond 128 a step on this kind of CPU is
+    arithmetic-bound. Measured on the 2-core
+    development VM (2026-12-06, float32, medians of 3 runs in turn; benchmarks/README.md): on two
+    devices, 512 random throws of the human box took 1.29 / 1.07 s at 16 / 32 lanes, 2048 took
+    3.47 / 3.26 / 2.93 s at 32 / 64 / 128, the 4096-throw tilt x attack grid 8.09 / 5.91 / 5.15 s at
+    64 / 128 / 256 and 8192 random throws 8.80 / 8.98 / 9.99 s at 128 / 256 / 512; on one device,
+    2048 throws 4.64 / 3.98 / 3.58 / 4.30 s at 16 / 32 / 64 / 128 lanes and the grid 10.1 / 9.26 /
+    8.85 / 9.39 s at 32 / 64 / 128 / 256, and 512 throws 1.43 / 1.52 / 1.41 s at 8 / 16 / 32. Until
+    then the rule was n / 64 within [8, 256]: this one is 4-17 % faster at 2048 and 4096 throws and at
+    512 on two devices, the same at 8192, and 6 % slower at 512 on one device (16 lanes against 8).
+    A throw's numbers do not depend on the lane count (:data:`MIN_LANES_PER_DEVICE`): speed only.
 
     >>> default_lanes(100), default_lanes(4096), default_lanes(10**6), default_lanes(4096, devices=2)
-    (8, 64, 256, 128)
+    (8, 128, 128, 256)
     """
     n = check_int("n", n, minimum=1)
     devices = check_int("devices", devices, minimum=1)
-    return devices * int(min(256, max(8, 2 ** math.floor(math.log2(max(n / 64, 1.0))))))
+    return devices * int(min(128, max(8, 2 ** math.floor(math.log2(max(n / 32, 1.0))))))
 
 
 def chunk_for(max_steps: int, target: int = 250) -> int:
