@@ -21,8 +21,8 @@ backend. :func:`apply` therefore appends it to ``XLA_FLAGS`` at ``import jaxskip
 * to no effect if JAX's backend already started before jaxskip was imported (import
   jaxskip first, or export the flag yourself; :data:`jaxskip.XLA_TUNING` says which).
 
-It applies to every JAX program in the process, which is why it is documented here and in the
-README, and why the threshold is bounded: loops that stream more than 100 MB (big water grids,
+It applies to every JAX program in the process, which is why it is documented here and in
+docs/speed.md, and why the threshold is bounded: loops that stream more than 100 MB (big water grids,
 wide batches) keep XLA's default, multi-threaded execution. XLA also refuses the single-function
 form for any loop whose body holds a scatter (``x.at[i].add(...)`` with traced indices), whatever
 its size: the loops of the simulator avoid scatters for that reason

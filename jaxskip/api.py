@@ -180,7 +180,7 @@ class ThrowResult:
 
         Only the water takes energy from a real stone, so ``"total"`` should never rise. With the default
         ``velocity="body"`` it can: each face's force is computed from the centre of mass's velocity, and the
-        lift's torque can pump a wobble (the default throw: 4.63 J at release, 7.98 J at the end; README,
+        lift's torque can pump a wobble (the default throw: 4.63 J at release, 7.98 J at the end; docs/model.md,
         "The default free stone gains energy"); with the tilt held or ``velocity="local"`` or ``"passive"`` it
         only falls, to rounding. With a height field (``field``) the water's own energy is not included. With
         the tilt held (``attitude="fixed"``) the stone does not turn, and ``"rotation"`` is the throw's spin

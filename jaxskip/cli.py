@@ -320,7 +320,7 @@ def _energy_lines(result) -> list:
                      f"(+{100 * (e['peak'] / e['release'] - 1):.0f} %)")
     if e["gain"] > e["release"] * ENERGY_RISE + ENERGY_RISE and not result.field:
         why = ("with --velocity body each face's force comes from the centre of mass's velocity and can pump a "
-               "wobble; --velocity passive never adds any; README, 'The default free stone gains energy'"
+               "wobble; --velocity passive never adds any; docs/model.md, 'The default free stone gains energy'"
                if result.config.force.velocity == "body" else "a smaller --dt resolves the contacts better")
         lines.append(f"  (the water added energy: {e['gain']:.3g} J above an earlier low; {why})")
     return lines

@@ -54,7 +54,7 @@ the friction acting at the centre of mass
     on faces with :math:`n_i\cdot w_i > 0` (``faces="leading"``). The water's power on the
     stone, :math:`\sum_i F_{L,i}\cdot w_i + F_{f,i}\cdot v = -\sum_i \tfrac12\rho_w S_i |V|\,[C_l |V|\,
     |n_i\cdot w_i| + C_f |V_t|^2] \le 0`, is never positive, so the water cannot pump a wobble
-    (``"body"`` can: README, "The default free stone gains energy"). Without rotation
+    (``"body"`` can: docs/model.md, "The default free stone gains energy"). Without rotation
     (:math:`w_i = V`, the tilt held included) it is ``"body"``'s law in force exactly (the torque
     lacks the friction's moment, which a held tilt ignores). The spin's in-plane speed does not
     enter the pressure (as with ``"body"``; ``"local"`` lifts a plate on it). The friction has no
@@ -62,7 +62,7 @@ the friction acting at the centre of mass
     fast-spinning disk, moving at :math:`\Omega R` (10 m/s for Clanet's disk at 65 rev/s) against
     a flow of 1-2 m/s, drove the stone like a wheel — spin turned into forward speed (the disk
     tilted 45° at 0.6 m/s left the water at 2.1 m/s) — and with the centre of mass's velocity at
-    each face its moment pumped energy into the rotation (README, "Calibration"). For a thin stone
+    each face its moment pumped energy into the rotation (docs/model.md, "Calibration"). For a thin stone
     that moment is mostly about the face normal (a banked stone spun up or down); dropping it is
     the approximation this law makes.
 """
@@ -103,7 +103,7 @@ class ForceModel:
     """``"bocquet"`` (default: lift along the normal, friction along the face) or ``"seed"``
     (Do, Lee & Ryu eqs. 1-2). The seed law's drag vanishes as a face lines up with the flow,
     so a planing stone barely slows and no magic angle appears; Bocquet's law reproduces
-    the magic angle and N ~ V^2 (README, "Calibration")."""
+    the magic angle and N ~ V^2 (docs/model.md, "Calibration")."""
     faces: str = "leading"
     """``"leading"``: only immersed faces moving into the water are loaded; ``"all"``: every immersed face."""
     velocity: str = "body"
@@ -167,7 +167,7 @@ class WaterParams:
         return self
 
 
-# Calibrated defaults, per law. Evidence (README "Calibration"): with Bocquet's law,
+# Calibrated defaults, per law. Evidence (docs/model.md, "Calibration"): with Bocquet's law,
 # C_l = 1 and C_f in {0.1, 0.3, 1}, C_f = 0.3 puts the Clanet disk's minimum bounce
 # speed at 20 deg tilt / 20 deg attack nearest Clanet et al.'s ~2.5 m/s (2.0 m/s) while
 # keeping the magic-angle minimum at 15-20 deg, no bounce at 50 deg, and N ~ V^2

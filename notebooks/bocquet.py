@@ -121,7 +121,7 @@ print(f"U_min: mesh {umin_mesh:.2f} m/s, reduced {umin_red:.2f} m/s (Clanet et a
 # law (`velocity="body"`) the banked disk makes far more bounces than the held tilt at 65–200 rev/s (51, 75,
 # 140 against 12), but those hops run on energy the water adds: each face's force is computed from the
 # centre of mass's velocity, so it can push on a face that is moving away from the water and pump the
-# wobble (README, "The default free stone gains energy"; here 4.02 → 5.68 J at 200 rev/s). The passive law
+# wobble (docs/model.md, "The default free stone gains energy"; here 4.02 → 5.68 J at 200 rev/s). The passive law
 # (`velocity="passive"`, which never adds energy) makes 1, 2, 3 bounces there, and both laws approach the
 # fixed-tilt (high-spin) count that Bocquet's and Clanet's analyses assume only as the drift per contact
 # vanishes (500 rev/s: 8 bounces each).

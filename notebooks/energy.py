@@ -11,7 +11,7 @@
 # ½ m|v|², rotation ½ ωᵀIω about the centre of mass, height m g z — should never rise. This notebook
 # follows it (`ThrowResult.energy()`) through the default throw (the paper stone, 8 m/s, tilt 20°,
 # attack 5°, 20 rev/s) under each way the force law can take the stone's velocity
-# (`ForceModel(velocity=...)`; README, "The default free stone gains energy"):
+# (`ForceModel(velocity=...)`; docs/model.md, "The default free stone gains energy"):
 #
 # * `"body"` (the default): every face sees the centre of mass's velocity, so the lift's torque does
 #   not feel how fast each side of the stone moves into the water, and it can pump a wobble;

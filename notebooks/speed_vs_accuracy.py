@@ -349,5 +349,4 @@ RUN.done(path)
 #   step of 0.5 ms instead of the default 1 ms gains little (15 % / 17 %) at 1.5× the cost, 4 ms
 #   loses a lot (25 % / 37 %) for a 1.6× saving — so 1 ms stays. The coupling also changes the
 #   contact itself: flat water's first contact differs from the 0.5 cm field's by ~110 %. Flat
-#   water stays the library's default; the coupled field is an experimental option (README,
-#   "Water").
+#   water stays the library's default; the coupled field is an experimental option (docs/water.md).

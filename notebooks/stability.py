@@ -48,7 +48,7 @@ water = water_params()
 # "Fails" = energy gained, or a non-finite state. This is the paper stone at 2650 kg/m³ with its tilt
 # held: a free stone, a lighter or a thinner one fails at shorter steps, where the water swings its
 # tilt faster than the step resolves. `jaxskip.simulate.contact_step_bound` estimates that step
-# (`simulate` warns beyond it; README, "Stability of the contact step"), printed below for this stone.
+# (`simulate` warns beyond it; docs/model.md, "Stability of the contact step"), printed below for this stone.
 
 # %%
 dts = np.array([2.5e-4, 1e-3, 4e-3]) if QUICK else np.geomspace(1e-4, 8e-3, 14)

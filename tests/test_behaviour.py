@@ -32,7 +32,7 @@ def test_high_spin_count_does_not_fall_with_speed(paper, water):
     """High-spin limit (tilt held): strictly monotone. Free body at Clanet's reference spin of
     65 rev/s: the mean over an ensemble of attack angles is monotone (measured 2026-12-06: 2 / 4 / 7 /
     59.25 / 67.5 at 4-12 m/s), single free throws are not: the late hops are chaotic, and attack 8 deg
-    counts 2 / 6 / 3 / 54 / 44 (README, "Known limits"). At 30-50 rev/s the free stone is not yet in the
+    counts 2 / 6 / 3 / 54 / 44 (docs/model.md, "Known limits"). At 30-50 rev/s the free stone is not yet in the
     high-spin regime (measured: at 30 rev/s throws flip at 12 m/s and the mean dips)."""
     speeds = [4.0, 6.0, 8.0, 10.0, 12.0]
     fixed = SimConfig(record=False, attitude="fixed", max_steps=20000, duration=20.0)
@@ -99,7 +99,7 @@ def test_spin_stabilises_a_fast_throw(paper, water):
     and every one flips or skips less than when spun at 20 or at 40 rev/s; the mean count rises with
     spin and flipping stops by 40 rev/s. Measured: flipped 84 / 84 / 56 / 0 % and mean 2.1 / 2.6 /
     12.2 / 35.7 bounces at 0 / 10 / 20 / 40 rev/s — at 10-15 rev/s the model's stone flips as often as
-    an unspun one (the first contact's torque tips it: README, "Known limits"), it only skips a
+    an unspun one (the first contact's torque tips it: docs/model.md, "Known limits"), it only skips a
     little more. Known miss at exactly 10 rev/s: the claim holds for 24 of the 25 throws (tilt 25 deg,
     attack 2 deg: 4 bounces unspun, 4 bounces and a flip at 10 rev/s); asserted here as measured, not
     as the acceptance's "every throw"."""

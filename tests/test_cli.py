@@ -307,7 +307,7 @@ def test_a_run_that_ends_just_after_the_stone_left_the_water_says_where_it_left(
 
 def test_passive_water_from_the_command_line(capsys):
     """--velocity passive reaches the force law (the JSON says so) and changes the throw: the default throw's
-    free stone, pumped by the body law's wobble (README, "The default free stone gains energy"), skips
+    free stone, pumped by the body law's wobble (docs/model.md, "The default free stone gains energy"), skips
     fewer times and farther with the water unable to add energy."""
     runs = {}
     for velocity in ("body", "passive"):

@@ -432,7 +432,7 @@ def test_water_with_face_velocities_only_takes_energy_from_a_free_stone(paper, w
     it deciding the loading (``"passive"``), a face is loaded only while it moves into the water, against
     that motion, so the free stone's mechanical energy (translation, rotation about the centre of mass,
     height) never rises from one step to the next over the default throw. (The default
-    ``velocity="body"`` breaks this: README, "The default free stone gains energy", 4.63 -> 7.98 J.)"""
+    ``velocity="body"`` breaks this: docs/model.md, "The default free stone gains energy", 4.63 -> 7.98 J.)"""
     from jaxskip import simulate
 
     r = simulate(Throw.from_degrees(), stone=paper, water=water, config=SimConfig(force=ForceModel(velocity=velocity)))
@@ -449,7 +449,7 @@ def test_water_with_face_velocities_only_takes_energy_from_a_free_stone(paper, w
 def test_energy_diagnostic_shows_the_body_law_adding_energy(paper, water):
     """ThrowResult.energy() splits the stone's mechanical energy into translation, rotation and height, and
     to_dict()['energy'] summarises it: the default (body-velocity) throw starts with 4.63 J and peaks
-    above 7.9 J (README, "The default free stone gains energy"); with the tilt held it never rises."""
+    above 7.9 J (docs/model.md, "The default free stone gains energy"); with the tilt held it never rises."""
     from jaxskip import simulate
 
     r = simulate(Throw.from_degrees(), stone=paper, water=water)

@@ -36,7 +36,7 @@ def test_umin_has_a_magic_angle():
 @pytest.mark.xfail(strict=True, reason=(
     "Known miss (issue 4): the model's magic angle, the vertex of U_min(tilt) for the Clanet disk at its "
     "reference conditions, is 14.1-14.3 deg (1.76 m/s); Clanet et al. put it between 15 and 25 deg. Converged in "
-    "mesh and dt (next test); README 'Calibration' gives the physical reason. Not tuned away."))
+    "mesh and dt (next test); docs/model.md, 'Calibration', gives the physical reason. Not tuned away."))
 def test_magic_angle_lies_between_15_and_25_degrees():
     from jaxskip import SimConfig, Throw, clanet_disk, rigid_stone, simulate_batch
     from jaxskip.stones import ALUMINIUM_DENSITY
