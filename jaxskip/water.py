@@ -110,7 +110,13 @@ Boundaries
 of ``sponge_width`` columns where heights relax to the rest depth and flows to
 zero at a rate rising quadratically to ``sponge_rate`` [1/s] at the edge, so
 waves leave instead of coming back (volume is then not conserved: waves carry
-it out).
+it out). Both relaxations are implicit: a pipe's flow update becomes
+:math:`Q \leftarrow (Q + \Delta t\,\dot Q)/(1 + \Delta t\,r)` (like ``damping``), so the
+clamp and the heights see the relaxed flows, and after the height update a column's
+excess over the rest depth is divided by :math:`1 + \Delta t\,r`. (Until 2026-12-06 the
+flows were relaxed after the heights had moved with the unrelaxed ones: the same flows
+in the state to rounding where the clamp does not bite, other heights in the border, and XLA
+copied all five state arrays every step to do it.)
 
 Example
 -------
@@ -644,12 +650,18 @@ def make_water_step(grid: WaterGrid, clamp_blocks: tuple = ()):
                                      f"for spacing {l} m and depth {H} m; split a longer step with "
                                      f"water_substeps()), got {dt!r}")
         keep = 1.0 / (1.0 + dt * grid.damping)    # implicit linear damping: unconditionally stable
+        if grid.boundary == "sponge":
+            # the sponge's implicit relaxation of the pipe flows, in the same update (module docstring)
+            keep_col, keep_pipes = _sponge_keep(grid, dt)
+            keeps = tuple(keep * k for k in keep_pipes)
+        else:
+            keeps = (keep,) * 4
         h = state.height
         head = h + pressure / (grid.rho * g)   # pressure as metres of water
-        qx = keep * (state.qx + dt * g * k_axis * (head[:-1, :] - head[1:, :]))
-        qy = keep * (state.qy + dt * g * k_axis * (head[:, :-1] - head[:, 1:]))
-        qd = keep * (state.qd + dt * g * k_diag * (head[:-1, :-1] - head[1:, 1:]))
-        qa = keep * (state.qa + dt * g * k_diag * (head[:-1, 1:] - head[1:, :-1]))
+        qx = keeps[0] * (state.qx + dt * g * k_axis * (head[:-1, :] - head[1:, :]))
+        qy = keeps[1] * (state.qy + dt * g * k_axis * (head[:, :-1] - head[:, 1:]))
+        qd = keeps[2] * (state.qd + dt * g * k_diag * (head[:-1, :-1] - head[1:, 1:]))
+        qa = keeps[3] * (state.qa + dt * g * k_diag * (head[:-1, 1:] - head[1:, :-1]))
         flows = (qx, qy, qd, qa)
         volume = h * area
         if grid.clamp != "zero":
@@ -690,9 +702,7 @@ def make_water_step(grid: WaterGrid, clamp_blocks: tuple = ()):
             # a volume change of that rounding. (where, not maximum: at h = 0 exactly the gradient passes whole.)
             height = jnp.where(height < 0.0, jnp.zeros_like(height), height)
         if grid.boundary == "sponge":
-            keep_col, keep_pipes = _sponge_keep(grid, dt)   # implicit relaxation towards rest
-            height = H + (height - H) * keep_col
-            flows = tuple(q * k for q, k in zip(flows, keep_pipes))
+            height = H + (height - H) * keep_col   # implicit relaxation towards rest
         return WaterState(height=height, qx=flows[0], qy=flows[1], qd=flows[2], qa=flows[3],
                           time=state.time + dt)
 
