@@ -183,6 +183,9 @@ def _values(text: str, name: str) -> list:
                              f"5,10,20 (no empty items), got {text!r}") from None
     if n > MAX_ANGLES:
         raise ParameterError(f"{name} A:B:N must have N <= {MAX_ANGLES}, got {text!r}")
+    if n == 1 and a != b:   # (np.linspace(a, b, 1) is [a]: B was dropped in silence)
+        raise ParameterError(f"{name} A:B:1 is one value, but A ({a:g}) and B ({b:g}) differ: give N >= 2 values from A "
+                             f"to B, or the one value alone ({a:g}), got {text!r}")
     # rounded so that 5:10:6 gives 5, 6, ... (not 6.000000000000001), but never past A or B: 89.99999999999
     # rounds to 90, outside the tilts' open range
     return np.linspace(a, b, n).round(10).clip(min(a, b), max(a, b)).tolist()
@@ -269,7 +272,7 @@ def run_optimize(args) -> int:
             limits = _limits({"config": {"duration": config.duration, "max_steps": config.max_steps}})
             _say(f"  note: that throw was still in play when the run stopped it at {limits}: its count and distance "
                  "are lower bounds (raise them)")
-        _say(f"cost: {r.forward_throws} exact throws, {r.gradient_evals} gradient evaluations, "
+        _say(f"cost: {plural(r.forward_throws, 'exact throw')}, {plural(r.gradient_evals, 'gradient evaluation')}, "
              f"{r.wall_time:.1f} s wall")
         _say(f"to throw it again: {command}")
         for line in _energy_lines(single):   # (a record count may run on energy the default law's water adds)
@@ -288,7 +291,7 @@ def run_optimize(args) -> int:
             fmt = lambda v: "n/a" if v is None else f"{v:.3g}"  # noqa: E731
             st = health["starts"]
             _say(f"gradient norms (unconstrained units, before clipping): median {fmt(health['median'])}, "
-                 f"max {fmt(health['max'])}; of {st['n']} starts, exploding (> {EXPLODING:g}) at some iteration on "
+                 f"max {fmt(health['max'])}; of {plural(st['n'], 'start')}, exploding (> {EXPLODING:g}) at some iteration on "
                  f"{st['exploding']}, vanishing (< {VANISHING:g}) at every iteration on {st['vanishing']} and at some "
                  f"iteration on {st['vanishing_some']}")
             if st["exploding"]:

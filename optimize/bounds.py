@@ -39,9 +39,10 @@ HUMAN_BOX = types.MappingProxyType({"speed": (3.0, 12.0), "tilt": (5.0, 45.0), "
 
 
 def check_interval(name: str, value, low: float, high: float, *, unit: str = "",
-                   low_open: bool = False) -> tuple[float, float]:
+                   low_open: bool = False, holdable: bool = True) -> tuple[float, float]:
     """Validate ``value = (lo, hi)``: finite, ``lo < hi``, inside ``[low, high]`` (``(low, high]`` with
-    ``low_open``); returns floats."""
+    ``low_open``); returns floats. ``holdable``: an empty interval's message suggests a single value to
+    hold the parameter instead (a search's box; not a U_min sweep's bisection bracket)."""
     u = f" {unit}" if unit else ""
     valid = f"within {'(' if low_open else '['}{low:g}, {high:g}]{u}"
     pair = f"a pair (low, high) of numbers {valid}"
@@ -62,8 +63,8 @@ def check_interval(name: str, value, low: float, high: float, *, unit: str = "",
     if lo > hi:
         raise ParameterError(f"{name} is inverted: low {lo} > high {hi}{u} (give low < high, {valid})")
     if lo == hi:
-        raise ParameterError(f"{name} is empty: low = high = {lo}{u} (give low < high, {valid}, or a single value "
-                             "to hold it instead)")
+        raise ParameterError(f"{name} is empty: low = high = {lo}{u} (give low < high, {valid}"
+                             + (", or a single value to hold it instead)" if holdable else ")"))
     if lo < low or (low_open and lo == low) or hi > high:
         raise ParameterError(f"{name} must lie {valid}, got ({lo}, {hi})")
     return lo, hi

@@ -495,7 +495,8 @@ def gradient_search(box: Box | None = None, *, objective: str = "bounces", stone
         if isinstance(horizon, numbers.Integral) and not isinstance(horizon, bool) and horizon > config.max_steps:
             # (the bare range [1, 2250] did not say where 2250 came from)
             raise ParameterError(f"horizon must be at most the step budget, {config.max_steps} steps (config.max_steps, "
-                                 f"--max-steps in the CLI; {config.duration:g} s at dt {config.dt:g} s), got {horizon}")
+                                 f"--max-steps in the CLI: {config.max_steps * config.dt:.3g} s of fine steps at "
+                                 f"dt {config.dt:g} s; the duration is {config.duration:g} s), got {horizon}")
         horizon = check_int("horizon", horizon, minimum=1, maximum=config.max_steps)
     # (the surrogate ignores record: configurations differing only there share one program)
     program_config = dataclasses.replace(config, record=False, max_steps=config.max_steps if horizon is None else horizon)

@@ -18,10 +18,10 @@ A sweep is a :func:`make_spec` of one of two kinds, run by :func:`run_sweep`:
   at speed (the free Clanet disk at 10° of tilt, 20° attack and 65 rev/s bounces at every speed from
   2.5 to 11.5 m/s in steps of 0.5, not at 12 or 12.5, again at 13; 2026-12-06). So the
   bracket's ends and :data:`SCAN_SPEEDS` speeds evenly spaced between them are thrown first;
-  where a faster speed of that scan fails to bounce after a slower one did (``monotone`` 0),
-  the bisection runs in the scan's first interval in which the count turns from 0 to a bounce,
-  instead of the whole bracket (a bouncing window narrower than the scan's step can then be
-  missed). The answer is bracketed to ``(high - low) / 2**iterations`` (finer where not monotone).
+  the bisection runs in the scan's first interval in which the count turns from 0 to a bounce (a
+  bouncing window narrower than the scan's step below it can be missed), and a tilt where a faster
+  speed of the scan fails to bounce after a slower one did is marked (``monotone`` 0). The answer
+  is bracketed to the scan's step halved ``iterations`` times, :func:`umin_resolution`.
 * :func:`parabola_minimum` — the magic angle between grid points: the vertex
   of the parabola through the lowest :math:`U_{min}` and its two neighbours
   (``best_tilt_fit``, ``best_umin_fit`` in a U_min sweep's result).
@@ -106,6 +106,20 @@ SCAN_SPEEDS = 8
 #: Outcomes of a throw still in play when the run stopped it (its count is a lower bound).
 CUT_OFF = ("time_limit", "step_limit")
 CHUNK_VALUES = {"domain": ("first_contact_time",), "umin": ("umin",)}
+#: A U_min chunk file's ``bisection``: where each tilt was bisected (inside the scan's interval in which the
+#: count turns from 0). Chunks without it were bisected over the whole bracket by an earlier jaxskip.
+UMIN_BISECTION = "scan-interval"
+
+
+def umin_resolution(speed_range, iterations: int) -> float:
+    """Width [m/s] of a U_min sweep's final bisection bracket at every tilt: the scan's step,
+    ``(high - low) / (SCAN_SPEEDS + 1)``, halved ``iterations`` times.
+
+    >>> umin_resolution((0.5, 8.0), 10)   # 7.5 / 9 / 1024
+    0.0008138020833333334
+    """
+    low, high = speed_range
+    return (high - low) / (SCAN_SPEEDS + 1) / 2**iterations
 
 
 def limit_text(name: str) -> str:
@@ -227,8 +241,9 @@ def make_spec(kind: str, *, tilts, attacks=(REFERENCE["attack"],), speed: float 
     non-empty list of them [deg] (``umin``: one attack). ``speed`` [m/s], in (0, 100]: the speed of a
     ``domain`` sweep (default 3.5, Clanet's). ``speed_range``: ``(low, high)`` [m/s], 0 < low < high <=
     100, the bracket a ``umin`` bisection starts from (default (0.5, 8)). ``iterations``: bisection
-    steps of a ``umin`` sweep, an integer in [1, 40] (:data:`MAX_BISECTIONS`); the answer is bracketed
-    to ``(high - low) / 2**iterations`` m/s. ``spin`` [rev/s], in [-500, 500]: every throw's spin
+    steps of a ``umin`` sweep, an integer in [1, 40] (:data:`MAX_BISECTIONS`), inside the scan's interval
+    where the count turns from 0; the answer is bracketed to :func:`umin_resolution`,
+    ``(high - low) / (SCAN_SPEEDS + 1) / 2**iterations`` m/s. ``spin`` [rev/s], in [-500, 500]: every throw's spin
     (default 65, Clanet's catapult). ``speed``, ``speed_range`` and ``iterations`` are checked for
     either kind (and stored in the spec), used by the one kind only. ``stone``: a built-in name
     (default ``"clanet"``, Clanet's aluminium disk) or an ``.obj`` path [m]. ``attitude``: ``"fixed"``
@@ -243,8 +258,8 @@ def make_spec(kind: str, *, tilts, attacks=(REFERENCE["attack"],), speed: float 
     Returns a :class:`SweepSpec` (frozen; user units) for :func:`run_sweep`. Nothing is compiled here.
 
     >>> spec = make_spec("umin", tilts=[10.0, 20.0, 30.0], iterations=4)
-    >>> spec.speed_range, spec.spin, spec.chunk_size, (spec.speed_range[1] - spec.speed_range[0]) / 2**4
-    ((0.5, 8.0), 65.0, 1, 0.46875)
+    >>> spec.speed_range, spec.spin, spec.chunk_size, umin_resolution(spec.speed_range, spec.iterations)
+    ((0.5, 8.0), 65.0, 1, 0.052083333333333336)
     """
     if kind not in ("domain", "umin"):
         raise ParameterError(f"kind must be 'domain' or 'umin', got {kind!r}")
@@ -258,7 +273,7 @@ def make_spec(kind: str, *, tilts, attacks=(REFERENCE["attack"],), speed: float 
     if len(tilts) * len(attacks) > MAX_GRID:
         raise ParameterError(f"tilts and attacks: their grid must have at most {MAX_GRID} points, got "
                              f"{len(tilts)} x {len(attacks)}")
-    lo, hi = check_interval("speed_range", speed_range, 0.0, MAX_SPEED, unit="m/s", low_open=True)
+    lo, hi = check_interval("speed_range", speed_range, 0.0, MAX_SPEED, unit="m/s", low_open=True, holdable=False)
     iterations = check_int("iterations", iterations, minimum=1, maximum=MAX_BISECTIONS)
     # every speed, tilt, attack and spin the sweep throws: checked against THROW_LIMITS (what --help shows),
     # then as the throw checks them
@@ -362,13 +377,15 @@ def _umin_chunk(spec: SweepSpec, sim, index: np.ndarray, progress: bool) -> dict
     monotone = np.all(bounced[:, 1:] >= bounced[:, :-1], axis=1)
     first = np.argmax(bounced, axis=1)   # the slowest speed of the scan that bounces (0 where none does)
     found = bounced.any(axis=1)
-    # where a faster throw fails to bounce after a slower one did, bisect the first interval in which the
-    # count turns from 0 to a bounce (where it is monotone, the whole bracket, as ever, and again inside the
-    # scan's interval should that bisection find no bounce at a speed the scan saw bounce at or below)
-    narrow = ~monotone & found & (first > 0)
+    # Bisect the scan's first interval in which the count turns from 0 to a bounce, at every tilt: the answer
+    # never lies above a speed the scan saw bounce, and every tilt's bracket is the scan's step / 2**iterations.
+    # (Until 2026-12-07 a monotone tilt was bisected over the whole bracket: its answer could lie above the
+    # scan's own first bouncing speed (4.25 m/s at a tilt whose 2.17 m/s throw bounced, one iteration), and a
+    # tilt bisected inside the scan was given the whole bracket's error bar, reaching below its low end.)
     rows = np.arange(n)
-    lo = np.where(narrow, speeds[rows, np.maximum(first - 1, 0)], lo)
-    hi = np.where(narrow, speeds[rows, first], hi)
+    inside = found & (first > 0)
+    lo = np.where(inside, speeds[rows, np.maximum(first - 1, 0)], lo)
+    hi = np.where(inside, speeds[rows, first], hi)
     line = ProgressLine()
 
     def bisect(lo, hi, what=""):
@@ -381,15 +398,6 @@ def _umin_chunk(spec: SweepSpec, sim, index: np.ndarray, progress: bool) -> dict
         return lo, hi
 
     lo, hi = bisect(lo, hi)
-    # A whole-bracket bisection can step into a gap narrower than the scan's step: it then finds a speed that
-    # does not bounce (its bracket's low end) at or above one the scan saw bounce. Such a tilt is not monotone
-    # after all, and is bisected again where the scan turns. (Its top alone says nothing: a coarse bracket's
-    # top may lie above the scan's first bouncing speed with every throw agreeing.)
-    redo = found & (first > 0) & ~narrow & (lo >= speeds[rows, first])
-    if redo.any():
-        monotone = monotone & ~redo
-        _, hi2 = bisect(speeds[rows, np.maximum(first - 1, 0)], speeds[rows, first], " (again, inside the scan)")
-        hi = np.where(redo, hi2, hi)
     if progress:
         line.close()
     umin = np.where(at_low > 0, spec.speed_range[0], np.where(found, hi, np.nan))
@@ -398,7 +406,8 @@ def _umin_chunk(spec: SweepSpec, sim, index: np.ndarray, progress: bool) -> dict
     # ...and so did one that took a throw cut off before its first bounce for one that does not bounce
     umin = np.where(unknown > 0, np.nan, umin)
     return {"umin": [_num(x) for x in umin], "bounces_at_high": at_high.tolist(), "bounces_at_low": at_low.tolist(),
-            "diverged": failed.tolist(), "cut_off": unknown.tolist(), "monotone": monotone.astype(int).tolist()}
+            "diverged": failed.tolist(), "cut_off": unknown.tolist(), "monotone": monotone.astype(int).tolist(),
+            "bisection": UMIN_BISECTION}
 
 
 def _num(x) -> float | None:
@@ -561,7 +570,7 @@ def _warn_diverged(spec: SweepSpec, chunks: list[dict], config) -> None:
     failed = sum(sum(c["diverged"]) for c in chunks)
     total = sum(len(c["items"]) for c in chunks)
     if spec.kind == "domain":
-        what, treatment = "domain sweep", "their counts mean nothing (1 in 'diverged' of result.json and result.csv)"
+        what, treatment = "domain sweep", "their counts mean nothing (1 in the result's 'diverged', written to result.json and result.csv when it has an out folder)"
     else:
         total *= _umin_throws(spec)
         bad = sum(1 for c in chunks for n in c["diverged"] if n)
@@ -580,7 +589,7 @@ def _warn_not_monotone(spec: SweepSpec, chunks: list[dict]) -> None:
     if tilts:
         step = (spec.speed_range[1] - spec.speed_range[0]) / (SCAN_SPEEDS + 1)
         warnings.warn(f"U_min sweep: at {len(tilts)} tilt(s) ({', '.join(f'{t:g}' for t in tilts)} deg) a faster throw "
-                      f"failed to bounce where a slower one bounced ('monotone' 0 in result.json and result.csv; a "
+                      f"failed to bounce where a slower one bounced ('monotone' 0 in the result, and in result.json and result.csv when it has an out folder; a "
                       f"free stone can flip at speed): U_min there is the lowest speed that bounces among the "
                       f"{SCAN_SPEEDS + 2} thrown {step:.3g} m/s apart, refined by bisection; a bouncing window "
                       f"narrower than {step:.3g} m/s below it would be missed", AccuracyWarning, stacklevel=3)
@@ -595,7 +604,7 @@ def _warn_cut_off(spec: SweepSpec, chunks: list[dict], config) -> None:
     total = sum(len(c["items"]) for c in chunks)
     if spec.kind == "domain":
         what = (f"{cut} of the {total} throws of this domain sweep were still skipping when the run stopped them: "
-                "their counts are lower bounds (1 in 'cut_off' of result.json and result.csv)")
+                "their counts are lower bounds (1 in the result's 'cut_off', written to result.json and result.csv when it has an out folder)")
     else:
         bad = sum(1 for c in chunks for n in c["cut_off"] if n)
         what = (f"{cut} of the {total * _umin_throws(spec)} throws of this U_min sweep were stopped before their "
@@ -673,6 +682,9 @@ def _chunk_problem(data, spec: SweepSpec, j: int, index: np.ndarray) -> str | No
             wrong = [v for v in values if v is not None and not low <= v <= high]
             if wrong:
                 return f"{key!r} holds {wrong[0]!r}, outside [{low:g}, {high:g}] {unit}"
+    if spec.kind == "umin" and data.get("bisection") != UMIN_BISECTION:
+        return ("it was written by an earlier jaxskip, which bisected a tilt over the whole bracket (its U_min could "
+                "lie above a speed its own scan saw bounce); delete the folder's chunk files to recompute them")
     return None
 
 
@@ -725,12 +737,14 @@ def _identity(spec: dict) -> dict:
 
 def _spec_difference(old: dict, new: dict) -> str:
     """How a folder's spec.json ``old`` differs from ``new``: the keys, and what ``old`` has there."""
+    held_old = old   # (what it holds is shown as written: an .obj stone by its path, not the None of _identity)
     old, new = _identity(old), _identity(new)
     keys = sorted(k for k in old.keys() | new.keys() if old.get(k) != new.get(k))
     # (what it holds: the resolved configuration's values, then the sweep's own that are not in it)
-    config = {k: v for k, v in sorted(old.get("config", {}).items()) if new.get("config", {}).get(k) != v}
+    config = {k: held_old.get("config", {}).get(k, v) for k, v in sorted(old.get("config", {}).items())
+              if new.get("config", {}).get(k) != v}
     held = [f"{k}={_shown(v)}" for k, v in config.items()]
-    held += [f"{k}={_shown(old.get(k))}" for k in keys if k != "config" and k not in config]
+    held += [f"{k}={_shown(held_old.get(k))}" for k in keys if k != "config" and k not in config]
     return f"its spec.json differs in {', '.join(keys)}: it has {', '.join(held)}"
 
 
@@ -894,7 +908,7 @@ def assemble(spec: SweepSpec, chunks: list[dict]) -> dict:
         result.update(umin=umin, bounces_at_high=cat("bounces_at_high"), bounces_at_low=at_low, diverged=cat("diverged"),
                       cut_off=cat("cut_off"), monotone=cat("monotone"), tied_tilts=tied,
                       best_tilt=best[1], best_umin=best[0], best_tilt_fit=fit[0], best_umin_fit=fit[1],
-                      resolution=(spec.speed_range[1] - spec.speed_range[0]) / 2**spec.iterations)
+                      resolution=umin_resolution(spec.speed_range, spec.iterations))
     return result
 
 
@@ -1026,7 +1040,7 @@ def _umin_panel(ax, result: dict) -> None:
     at_low = np.asarray(result.get("bounces_at_low") or [0] * len(u)) > 0
     res = result.get("resolution")
     if res is None:
-        res = (high - low) / 2 ** spec["iterations"]
+        res = umin_resolution((low, high), spec["iterations"])
     bracketed = np.isfinite(u) & ~at_low
     ax.plot(tilts, u, "-", color="C0", lw=1, alpha=0.6)
     bars = None
@@ -1080,6 +1094,19 @@ def _umin_panel(ax, result: dict) -> None:
               bbox_to_anchor=(0.5, -0.14), ncol=1, frameon=False)
 
 
+def _cell_edges(values: np.ndarray) -> np.ndarray:
+    """Edges [deg] of the cells centred on sorted grid ``values`` (n,) -> (n + 1,): halfway between
+    neighbours, the outer ones as far out as the inner ones; a single value gets a cell 2 deg wide.
+
+    >>> _cell_edges(np.array([10.0, 20.0, 40.0])).tolist(), _cell_edges(np.array([15.0])).tolist()
+    ([5.0, 15.0, 30.0, 50.0], [14.0, 16.0])
+    """
+    if values.size == 1:
+        return np.array([values[0] - 1.0, values[0] + 1.0])
+    mid = 0.5 * (values[1:] + values[:-1])
+    return np.concatenate([[2 * values[0] - mid[0]], mid, [2 * values[-1] - mid[-1]]])
+
+
 def _domain_panel(fig, ax, result: dict) -> None:
     """Bounce counts on the (tilt, attack) grid, tilt on x as in the U_min panel and the magic-angle
     notebook, the edge of the bouncing region outlined."""
@@ -1089,18 +1116,28 @@ def _domain_panel(fig, ax, result: dict) -> None:
     spec = result["spec"]
     b = np.asarray(result["bounces"], dtype=float)
     top = int(np.nanmax(b)) if b.size and np.isfinite(b).any() else 0
+    # Cells drawn between explicit edges, in increasing order: with one tilt or one attack, shading="nearest"
+    # has no spacing to size a cell by and drew nothing (empty axes beside a colour bar).
+    t_order, a_order = np.argsort(spec["tilts"]), np.argsort(spec["attacks"])
+    t_edges = _cell_edges(np.asarray(spec["tilts"], dtype=float)[t_order])
+    a_edges = _cell_edges(np.asarray(spec["attacks"], dtype=float)[a_order])
+    cells = b[np.ix_(t_order, a_order)].T
     if top <= 20:  # a colour per count, each centred on its integer tick
         from matplotlib import colormaps
 
-        mesh = ax.pcolormesh(spec["tilts"], spec["attacks"], b.T, shading="nearest",
+        mesh = ax.pcolormesh(t_edges, a_edges, cells, shading="flat",
                              cmap=colormaps["viridis"].resampled(top + 1), vmin=-0.5, vmax=top + 0.5)
     else:
-        mesh = ax.pcolormesh(spec["tilts"], spec["attacks"], b.T, shading="nearest", cmap="viridis")
+        mesh = ax.pcolormesh(t_edges, a_edges, cells, shading="flat", cmap="viridis")
     cbar = fig.colorbar(mesh, ax=ax, label="true bounce count [bounces]")
-    cbar.ax.yaxis.set_major_locator(MaxNLocator(integer=True))
+    if top <= 20:   # whole counts only (with every count 0 the bar ran from -0.5 to 0.5 in tenths)
+        cbar.set_ticks(np.arange(0, top + 1, max(1, math.ceil((top + 1) / 11))))
+    else:
+        cbar.ax.yaxis.set_major_locator(MaxNLocator(integer=True))
     handles = []
     if min(b.shape) >= 2 and (b > 0).any() and (b == 0).any():
-        ax.contour(spec["tilts"], spec["attacks"], (b.T > 0).astype(float), levels=[0.5], colors="C3", linewidths=1.5)
+        ax.contour(np.asarray(spec["tilts"], dtype=float)[t_order], np.asarray(spec["attacks"], dtype=float)[a_order],
+                   (cells > 0).astype(float), levels=[0.5], colors="C3", linewidths=1.5)
         handles.append(Line2D([], [], color="C3", lw=1.5,
                               label="edge of the bounce domain (≥ 1 bounce), halfway between grid points"))
     failed = np.asarray(result.get("diverged") or np.zeros(b.shape), dtype=bool)
@@ -1114,7 +1151,7 @@ def _domain_panel(fig, ax, result: dict) -> None:
         ti, ai = np.nonzero(cut)
         ax.plot(np.asarray(spec["tilts"])[ti], np.asarray(spec["attacks"])[ai], "^", color="w", mec="k", ms=6)
         handles.append(Line2D([], [], ls="", marker="^", color="w", mec="k", ms=6,
-                              label="still skipping at the duration: its count is a lower bound"))
+                              label="still skipping at the duration or step limit: its count is a lower bound"))
     if handles:
         ax.legend(handles=handles, fontsize=8, loc="upper center", bbox_to_anchor=(0.5, -0.14), frameon=False)
     ax.set_xlabel("tilt α [deg]")

@@ -440,7 +440,7 @@ def test_umin_text_words_the_bisection_bracket(tmp_path, capsys):
     text = capsys.readouterr().out
     r = json.loads((out / "result.json").read_text())
     u, res = r["best_umin"], r["resolution"]
-    assert r["best_tilt"] == 20.0 and r["umin"][2] is None and res == (8.0 - 0.5) / 2 ** 3
+    assert r["best_tilt"] == 20.0 and r["umin"][2] is None and res == (8.0 - 0.5) / 9 / 2 ** 3
     assert "tilt   60.0 deg: no bounce at the 10 speeds thrown from 0.5 to 8 m/s\n" in text and "(no bounce)" not in text
     assert f"magic angle: 20 deg, U_min {u:.2f} m/s (bisection: the true U_min lies in ({u - res:.2f}, {u:.2f}] m/s"\
         in text and "+-" not in text
@@ -449,12 +449,13 @@ def test_umin_text_words_the_bisection_bracket(tmp_path, capsys):
     assert "tilt   20.0 deg: U_min <= 2.5 m/s (bounces at the bracket's low end)" in text
     assert ("magic angle: 20 deg, U_min 2.50 m/s (it bounces at the bracket's low end: U_min <= 2.5 m/s, as at "
             "tilts 20 deg; the minimum lies among them (lower --speed-range))") in text
-    # (session 32, a review) tilts that tie named the first of them "the magic angle"
-    assert main(["sweep", "umin", "--tilts", "15,20,25", "--iterations", "3"]) == 0
+    # (session 32, a review) tilts that tie named the first of them "the magic angle". (Their U_min, 1.85 and
+    # 1.96 m/s, lie in one interval of the scan, (1.33, 2.17]; one bisection step at 1.75 m/s leaves both there.)
+    assert main(["sweep", "umin", "--tilts", "15,20", "--iterations", "1"]) == 0
     text = capsys.readouterr().out
-    assert text.count("U_min 2.38 m/s") == 4, text
-    assert ("magic angle: no single minimum: tilts 15, 20, 25 deg tie at U_min 2.38 m/s (bisection: the true U_min "
-            "lies in (1.44, 2.38] m/s, a bracket of 0.94 m/s; more --iterations narrow the bracket)") in text
+    assert text.count("U_min 2.17 m/s") == 3, text
+    assert ("magic angle: no single minimum: tilts 15, 20 deg tie at U_min 2.17 m/s (bisection: the true U_min "
+            "lies in (1.75, 2.17] m/s, a bracket of 0.42 m/s; more --iterations narrow the bracket)") in text
     assert "between grid points" not in text
 
 
@@ -552,8 +553,18 @@ def test_review_nits_of_the_search_commands(tmp_path, capsys):
     assert main(["sweep", "merge", str(tmp_path / "a"), "--out", str(tmp_path / "m"), "--no-progress"]) == 2
     assert "--no-progress is not used by sweep merge" in capsys.readouterr().err
     assert main(["optimize", "--horizon", "99999", "--duration", "0.5"]) == 2
-    assert ("--horizon must be at most the step budget, 2250 steps (config.max_steps, --max-steps in the CLI; 0.5 s "
-            "at dt 0.00025 s), got 99999") in capsys.readouterr().err
+    assert ("--horizon must be at most the step budget, 2250 steps (config.max_steps, --max-steps in the CLI: 0.562 s "
+            "of fine steps at dt 0.00025 s; the duration is 0.5 s), got 99999") in capsys.readouterr().err
+    # (2026-12-07, a review) an explicit --max-steps 100 read '100 steps (...; 5 s at dt 0.00025 s)'
+    assert main(["optimize", "--horizon", "200", "--max-steps", "100"]) == 2
+    assert "100 steps (config.max_steps, --max-steps in the CLI: 0.025 s of fine steps" in capsys.readouterr().err
+    # a U_min sweep's bracket cannot be held at one value (that advice is a search box's)
+    assert main(["sweep", "umin", "--speed-range", "2", "2"]) == 2
+    err = capsys.readouterr().err
+    assert "--speed-range is empty" in err and "hold" not in err, err
+    # A:B:1 with A != B dropped B in silence
+    assert main(["sweep", "domain", "--tilts", "5:60:1", "--attacks", "10"]) == 2
+    assert "--tilts A:B:1 is one value, but A (5) and B (60) differ" in capsys.readouterr().err
     assert main(["optimize", "--method", "random", "--throws", "2", "--duration", "0.2", "--json"]) == 0
     assert json.loads(capsys.readouterr().out)["settings"]["stone"] == "paper"
     argv = ["sweep", "umin", "--tilts", "10,20", "--iterations", "1", "--duration", "0.5", "--chunk-size", "1", "--json"]

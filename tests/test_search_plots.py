@@ -392,3 +392,27 @@ def test_a_tie_and_a_scan_that_is_not_monotone_are_drawn_as_such():
     assert "a faster throw failed to bounce here: the lowest bouncing speed of a scan, bisected" in texts
     dashed = [ln.get_xdata()[0] for ln in ax.get_lines() if ln.get_linestyle() == "--"]
     assert dashed == [20.0, 30.0]
+
+
+@pytest.mark.parametrize("tilts, attacks, b", [([10.0, 20.0], [10.0], [[4], [2]]), ([15.0], [0.0, 10.0, 20.0], [[0, 3, 1]]),
+                                               ([20.0, 10.0], [10.0], [[0], [0]])],
+                         ids=["one-attack", "one-tilt", "all-zero-unsorted"])
+def test_a_one_row_domain_is_drawn_with_whole_count_ticks(tilts, attacks, b):
+    """(2026-12-07, a review) `jaxskip sweep domain --tilts 10,20 --attacks 10 --plot` drew empty axes beside a
+    colour bar: with one tilt or one attack, shading='nearest' had no spacing to size a cell by. Every grid
+    point is a cell now (a lone value 2 deg wide); with every count 0 the bar read -0.4, -0.2, ... 'bounces'."""
+    from matplotlib.collections import QuadMesh
+
+    spec = {"kind": "domain", "tilts": tilts, "attacks": attacks, "speed": 3.5, "spin": 65.0, "stone": "clanet",
+            "attitude": "fixed"}
+    fig = _sweep_figure({"spec": spec, "bounces": b, "first_contact_time": [[None] * len(attacks)] * len(tilts)})
+    ax, bar = fig.axes
+    (mesh,) = [c for c in ax.collections if isinstance(c, QuadMesh)]
+    cells = np.asarray(mesh.get_array()).reshape(len(attacks), len(tilts))
+    order = np.argsort(tilts)
+    np.testing.assert_array_equal(cells, np.asarray(b, dtype=float)[order].T)
+    x0, x1 = ax.get_xlim()
+    assert x0 < min(tilts) and x1 > max(tilts)
+    fig.draw_without_rendering()
+    ticks = [float(t) for t in bar.get_yticks()]
+    assert ticks and all(t == int(t) and 0 <= t <= max(map(max, b)) for t in ticks), ticks

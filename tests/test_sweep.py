@@ -476,6 +476,9 @@ def test_an_obj_stone_is_pinned_by_its_contents(tmp_path):
                                              r"stone_sha256="):
         run_sweep(again, tmp_path / "s")
     assert "stone_sha256" not in small_domain().config  # a built-in stone is pinned by its name
+    # (2026-12-07, a review) resumed with a built-in stone, the refusal named the folder's stone as None
+    with pytest.raises(ParameterError, match=r"differs in config, stone: it has .*stone=" + repr(str(path))[:20]):
+        run_sweep(make_spec("domain", **{**settings, "stone": "paper"}), tmp_path / "s")
 
 
 def test_one_obj_stone_spelt_two_ways_is_one_sweep(tmp_path, monkeypatch):
@@ -758,17 +761,13 @@ def test_a_tie_for_the_lowest_umin_is_one_answer_in_the_result():
     assert r["tied_tilts"] == [] and 10.0 < r["best_tilt_fit"] < 30.0
 
 
-def test_a_bisection_that_steps_into_a_gap_the_scan_missed_is_redone_inside_the_scan(tmp_path, monkeypatch):
-    """(2026-12-06, a review) where the scan looked monotone, the whole bracket was bisected; a gap in the
-    bouncing speeds narrower than the scan's step (here 11.8-12.8 m/s, the scan 2.6 m/s apart) caught its
-    first midpoint, 12.25 m/s, and U_min came out 12.80 m/s although the scan had seen 3.11 m/s bounce, marked
-    monotone. Such a tilt is now bisected again inside the scan's interval, marked not monotone, and warned of."""
+def _fake_counts(monkeypatch, bounces):
+    """Replace the sweep's simulator by ``bounces(speeds) -> counts`` (every throw 'sank')."""
     import optimize.sweep as sweep_module
-    from jaxskip import AccuracyWarning
 
     class Fake:
         def __init__(self, speeds):
-            self.bounces = np.where((speeds > 2.3) & ~((speeds >= 11.8) & (speeds <= 12.8)), 3, 0)
+            self.bounces = bounces(speeds)
             self.outcome_names = np.full(speeds.shape, "sank", dtype=object)
 
     def fake_batch(throws, sim, progress):
@@ -776,8 +775,65 @@ def test_a_bisection_that_steps_into_a_gap_the_scan_missed_is_redone_inside_the_
         return Fake(v), np.zeros(v.shape, bool)
 
     monkeypatch.setattr(sweep_module, "_batch", fake_batch)
+
+
+def test_a_gap_between_the_scan_speeds_cannot_catch_the_bisection(tmp_path, monkeypatch):
+    """(2026-12-06, a review) where the scan looked monotone, the whole bracket was bisected; a gap in the
+    bouncing speeds narrower than the scan's step (here 11.8-12.8 m/s, the scan 2.6 m/s apart) caught its
+    first midpoint, 12.25 m/s, and U_min came out 12.80 m/s although the scan had seen 3.11 m/s bounce. Since
+    2026-12-07 every tilt is bisected inside the scan's interval where the count turns from 0, so the gap is
+    never thrown: U_min is right, and the tilt reads monotone (nothing thrown contradicts it)."""
+    _fake_counts(monkeypatch, lambda v: np.where((v > 2.3) & ~((v >= 11.8) & (v <= 12.8)), 3, 0))
     spec = make_spec("umin", tilts=[10.0], speed_range=(0.5, 24.0), iterations=10)
-    with pytest.warns(AccuracyWarning, match=r"at 1 tilt\(s\) \(10 deg\) a faster throw failed to bounce"):
-        r = run_sweep(spec)
+    r = run_sweep(spec)
     step = (24.0 - 0.5) / 9
-    assert r["monotone"] == [0] and 2.3 < r["umin"][0] <= 2.3 + step / 2 ** 10, r["umin"]
+    assert r["monotone"] == [1] and 2.3 < r["umin"][0] <= 2.3 + step / 2 ** 10, r["umin"]
+    assert r["resolution"] == pytest.approx(step / 2**10, rel=1e-12)
+
+
+def test_umin_never_lies_above_a_speed_its_scan_saw_bounce(monkeypatch):
+    """(2026-12-07, a review) a monotone tilt was bisected over the whole bracket: with one iteration
+    `jaxskip sweep umin --tilts 10,15,20,25 --iterations 1` read U_min 4.25 m/s at every tilt, a four-way
+    'tie', although the scan had thrown 2.17 m/s at tilt 15 and it bounced; and a tilt bisected inside the
+    scan (not monotone) got the whole bracket's error bar, (0.72, 2.16] for a bracket starting at 2 m/s.
+    Every tilt is now bisected inside the scan's interval, and `resolution` is that interval's width halved
+    `iterations` times: the same bracket for every tilt, never below the bracket's low end."""
+    import optimize.sweep as sweep_module
+
+    thresholds = {10.0: 2.9, 15.0: 2.1, 20.0: 2.3, 25.0: 2.6}     # each tilt's true U_min [m/s]
+
+    def fake_batch(throws, sim, progress):
+        v = np.asarray(throws.speed, dtype=float)
+        t = np.round(np.degrees(np.asarray(throws.tilt, dtype=float)), 6)
+        u = np.array([thresholds[float(x)] for x in t])
+
+        class R:
+            bounces = np.where(v > u, 2, 0)
+            outcome_names = np.full(v.shape, "sank", dtype=object)
+        return R(), np.zeros(v.shape, bool)
+
+    monkeypatch.setattr(sweep_module, "_batch", fake_batch)
+    spec = make_spec("umin", tilts=list(thresholds), iterations=1)
+    r = run_sweep(spec)
+    step = (8.0 - 0.5) / 9
+    scan = 0.5 + step * np.arange(10)
+    for (tilt, u0), u in zip(thresholds.items(), r["umin"]):
+        first = scan[np.argmax(scan > u0)]          # the scan's slowest bouncing speed
+        assert u0 < u <= first and u - u0 <= step / 2, (tilt, u, first)
+    assert r["resolution"] == pytest.approx(step / 2, rel=1e-12)
+    assert r["best_tilt"] == 15.0 and r["tied_tilts"] == [], r
+
+
+def test_a_umin_chunk_bisected_over_the_whole_bracket_is_refused(tmp_path, monkeypatch):
+    """A U_min chunk file written before 2026-12-07 (no 'bisection' key: each monotone tilt bisected over the
+    whole bracket) would mix two answers in a resumed sweep: it is refused, naming what to do."""
+    _fake_counts(monkeypatch, lambda v: np.where(v > 2.3, 3, 0))
+    spec = make_spec("umin", tilts=[10.0, 20.0], iterations=2, chunk_size=1)
+    run_sweep(spec, tmp_path / "s")
+    chunk = tmp_path / "s" / "chunk-00000.json"
+    data = json.loads(chunk.read_text())
+    assert data["bisection"] == "scan-interval"
+    del data["bisection"]
+    chunk.write_text(json.dumps(data))
+    with pytest.raises(ParameterError, match="bisected a tilt over the whole bracket"):
+        run_sweep(spec, tmp_path / "s")
