@@ -39,8 +39,10 @@ def _as_float(name: str, value, valid: str = "") -> float:
     if isinstance(value, jax.core.Tracer):  # (float() of it raised a TypeError read as "not a real number")
         raise ParameterError(f"{name} is a traced value (inside jit, vmap or grad), and this checked constructor "
                              "needs a concrete number: trace a pytree's field instead (e.g. dataclasses.replace("
-                             "water, c_lift=x) of a checked WaterParams, or a Throw(...) built directly); settings "
-                             "such as SimConfig's are static and cannot be traced")
+                             "water, c_lift=x) of a checked WaterParams, dataclasses.replace(stone, mass=m) of a "
+                             "rigid_stone (its fields are independent leaves: a density scales mass and inertia "
+                             "together, see help(RigidStone)), or a Throw(...) built directly); settings such as "
+                             "SimConfig's are static and cannot be traced")
     try:
         value = float(value)  # numpy scalars, 0-d arrays; an int beyond the float range overflows
     except OverflowError:

@@ -1119,7 +1119,8 @@ def rollout(config: SimConfig, throw: Throw, stone: RigidStone, water: WaterPara
     checked (:meth:`Throw.check`: a NaN speed or a tilt beyond ±90° is a :class:`ParameterError`) when
     they are concrete, here and in :data:`rollout_jit`; traced values (under ``jit``, ``vmap`` or
     ``grad``) cannot be, so check them before tracing, as :func:`jaxskip.simulate` and
-    :func:`jaxskip.simulate_batch` do. Build ``water`` with :func:`jaxskip.water_params`.
+    :func:`jaxskip.simulate_batch` do. A concrete ``stone`` and ``water`` are checked likewise
+    (:meth:`RigidStone.check`, :meth:`WaterParams.check`). Build ``water`` with :func:`jaxskip.water_params`.
 
     ``surface``: the water surface, a pure, JAX-traceable callable ``surface(x, y) -> h`` giving the
     height [m] above the rest level z = 0 at world coordinates ``x, y`` [m] (arrays of any shape; ``h``
@@ -1139,19 +1140,22 @@ def rollout(config: SimConfig, throw: Throw, stone: RigidStone, water: WaterPara
     (True, 'sank')
     """
     _check_rollout_args(config, throw, stone, water)
-    _check_concrete_throw(throw)
+    _check_concrete_throw(throw, stone, water)
     throw, stone, water = _one_float_type(throw, stone, water)
     step = make_step(config, surface, max_slope=max_slope)
     (state, tr), recs = _scan(config, step, initial_carry(config, throw, stone), stone, water)
     return state, tr.finish(), (recs if config.record else None)
 
 
-def _check_concrete_throw(throw) -> None:
+def _check_concrete_throw(throw, stone=None, water=None) -> None:
     """:meth:`Throw.check` when no field of ``throw`` is traced (a NaN throw came back "diverged", a tilt of
-    3 rad "flipped", in silence); a traced throw passes unchecked."""
-    if isinstance(throw, Throw) and not any(isinstance(getattr(throw, f.name), jax.core.Tracer)
-                                            for f in dataclasses.fields(throw)):
-        throw.check()
+    3 rad "flipped", in silence); a traced throw passes unchecked. Likewise :meth:`RigidStone.check` and
+    :meth:`WaterParams.check` of a concrete ``stone`` and ``water`` (a stone given a negative mass with
+    ``dataclasses.replace`` "sank", a negative ``c_lift`` ran on, in silence)."""
+    for tree in (throw, stone, water):
+        if isinstance(tree, (Throw, RigidStone, WaterParams)) and not any(
+                isinstance(getattr(tree, f.name), jax.core.Tracer) for f in dataclasses.fields(tree)):
+            tree.check()
 
 
 _rollout_compiled = jax.jit(rollout, static_argnames=("config", "surface", "max_slope"))
@@ -1159,8 +1163,8 @@ _rollout_compiled = jax.jit(rollout, static_argnames=("config", "surface", "max_
 
 def rollout_jit(config: SimConfig, throw: Throw, stone: RigidStone, water: WaterParams, surface=flat_surface,
                 max_slope: float | None = None):
-    _check_rollout_args(config, throw, stone, water)
-    _check_concrete_throw(throw)   # (inside the jitted function the values are traced)
+    _check_rollout_args(config, throw, stone, water, name="rollout_jit")
+    _check_concrete_throw(throw, stone, water)   # (inside the jitted function the values are traced)
     max_slope = _check_max_slope(config, surface, max_slope)   # (checked before tracing; a float, hashable)
     return _rollout_compiled(config, throw, stone, water, surface=surface, max_slope=max_slope)
 

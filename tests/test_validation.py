@@ -946,3 +946,33 @@ def test_initial_state_and_carry_refuse_a_batch_by_name():
         initial_carry(SimConfig(), batch, stone)
     with pytest.raises(ParameterError, match=r"initial_state takes one throw"):
         initial_state(batch, stone)
+
+
+def test_rollout_and_the_soft_count_check_a_concrete_stone_water_and_throw():
+    """(2026-12-07, a review) rollout checked a concrete throw but not a concrete stone or water: a stone given a
+    negative mass with dataclasses.replace 'sank' and a negative c_lift ran on, where simulate refuses both;
+    soft_bounce_rollout (the 'bounces' objective) checked nothing: a NaN speed scored 0 bounces in silence. All
+    are refused before tracing now, naming the value; rollout_jit's messages name rollout_jit."""
+    import dataclasses
+
+    import jax.numpy as jnp
+
+    from jaxskip import rollout, rollout_jit
+    from optimize.objectives import make_objective, soft_bounce_rollout
+
+    config = SimConfig(record=False, max_steps=50)
+    stone, water, throw = rigid_stone(paper_stone(), density=2650.0), water_params(), Throw.from_degrees()
+    light = dataclasses.replace(stone, mass=jnp.asarray(-0.1))
+    weak = dataclasses.replace(water, c_lift=jnp.asarray(-5.0))
+    nan = dataclasses.replace(throw, speed=jnp.asarray(float("nan")))
+    for run in (rollout, rollout_jit, soft_bounce_rollout):
+        with pytest.raises(ParameterError, match=r"mass must be > 0"):
+            run(config, throw, light, water)
+        with pytest.raises(ParameterError, match=r"c_lift must be in \[0, 10\]"):
+            run(config, throw, stone, weak)
+        with pytest.raises(ParameterError, match=r"speed must be finite"):
+            run(config, nan, stone, water)
+    with pytest.raises(ParameterError, match=r"speed must be finite"):
+        make_objective("bounces", config, stone, water)(nan)
+    with pytest.raises(ParameterError, match=r"^rollout_jit takes one throw"):
+        rollout_jit(config, Throw.from_degrees(tilt=[10.0, 20.0]), stone, water)
