@@ -306,6 +306,11 @@ def _summary(result) -> str:
 ENERGY_RISE = 1e-6
 
 
+def _percent(p: float) -> str:
+    """A percentage for the summary: whole numbers from 10 on, two significant figures below ("0.25", not "0")."""
+    return f"{p:.0f}" if abs(p) >= 10 else f"{p:.2g}"
+
+
 def _energy_lines(result) -> list:
     """The stone's mechanical energy in the summary: at release, at its peak and at the end [J], and a note
     when the water added energy (rose above an earlier value; possible with --velocity body, the default)."""
@@ -317,11 +322,13 @@ def _energy_lines(result) -> list:
     lines = [f"mechanical energy of the stone: {e['release']:.3g} J at release, {e['end']:.3g} J at the end"]
     if e["peak"] > e["release"] * (1 + ENERGY_RISE) + ENERGY_RISE:
         lines[0] += (f"; peak {e['peak']:.3g} J at {e['peak_time']:.2f} s "
-                     f"(+{100 * (e['peak'] / e['release'] - 1):.0f} %)")
-    if e["gain"] > e["release"] * ENERGY_RISE + ENERGY_RISE and not result.field:
+                     f"(+{_percent(100 * (e['peak'] / e['release'] - 1))} %)")
+    if e["gain"] > e["release"] * ENERGY_RISE + ENERGY_RISE:
         why = ("with --velocity body each face's force comes from the centre of mass's velocity and can pump a "
                "wobble; --velocity passive never adds any; docs/model.md, 'The default free stone gains energy'"
                if result.config.force.velocity == "body" else "a smaller --dt resolves the contacts better")
+        if result.field:   # (moving water may push the stone; the body law's pumping acts on the field as well)
+            why = "on the height field moving water can also push the stone; " + why
         lines.append(f"  (the water added energy: {e['gain']:.3g} J above an earlier low; {why})")
     return lines
 

@@ -77,7 +77,9 @@ def plot_throw(result, path=None, *, ax=None):
     x, y, z = _throw_frame(pos, float(result.throw.heading))
 
     xlim = _downrange_limits(x)
-    side.axhline(0.0, color="#2f6fb0", lw=1.2, label="water surface")
+    # On the height field the surface moves (ripples, and the dent under the stone): z = 0 is its rest level.
+    side.axhline(0.0, color="#2f6fb0", lw=1.2,
+                 label="water at rest (the field's surface is not drawn)" if result.field else "water surface")
     side.plot(x, z * 100, color="0.2", lw=1.0, label="centre of mass")
     if wet.any():
         logged = len(result.contacts)
@@ -261,7 +263,9 @@ def plot_water(result, stone, path=None, *, frame=None):
     # The surface clipped at twice the colour scale: a single column's spike (a height field cannot
     # splash) would otherwise set the vertical scale and flatten every ripple.
     cap = 2.0 * lim
-    ax3.plot_surface(X, Y, np.clip(elev, -cap, cap), cmap="Blues_r", linewidth=0, antialiased=True, alpha=0.85)
+    # one colour scale for every picture (still water mid-blue), not each frame's own range
+    ax3.plot_surface(X, Y, np.clip(elev, -cap, cap), cmap="Blues_r", norm=plt.Normalize(-cap, cap), linewidth=0,
+                     antialiased=True, alpha=0.85)
     ax3.add_collection3d(Poly3DCollection(list(np.stack([tri[..., 0], tri[..., 1], tri[..., 2] * 1e3], -1)),
                                           facecolor="0.45", edgecolor="0.2", linewidths=0.3))
     # Heights in mm over a window of tens of cm: state the vertical exaggeration of the drawn box.
@@ -274,7 +278,7 @@ def plot_water(result, stone, path=None, *, frame=None):
     ax3.set_ylabel("y [m]", labelpad=8)
     ax3.set_zlabel(f"z [mm] (vertical ×{exaggeration:.0f})", labelpad=6)
     ax3.set_title(f"the same moment in 3-D; throw: {plural(result.bounces, 'bounce')} in all; window {nx}×{ny}, "
-                  f"{field['spacing'] * 100:.3g} cm columns\n(surface clipped at ±{cap:.0f} mm, twice the colour "
+                  f"{field['spacing'] * 100:.3g} cm columns\n(surface clipped at ±{cap:.2g} mm, twice the colour "
                   "scale)", fontsize=10)
     fig.tight_layout()
     if path is not None:
@@ -358,8 +362,7 @@ def animate_throw(result, stone, path, *, fps: int = 20):
     sm = plt.cm.ScalarMappable(cmap="RdBu_r", norm=plt.Normalize(-lim, lim))
     fig.colorbar(sm, ax=top, label="elevation [mm]", shrink=0.85, pad=0.02)
     durations = _frame_durations([f[0] for f in frames], fps)
-    span = frames[-1][0] - frames[0][0]
-    slow = f"; slow motion ×{sum(durations) / 1000.0 / span:.1f}" if span > 0 else ""
+    slow = _pace(durations, frames[-1][0] - frames[0][0])
 
     def draw(i):
         top.clear()
@@ -394,6 +397,19 @@ def animate_throw(result, stone, path, *, fps: int = 20):
     with writing(path):
         images[0].save(path, save_all=True, append_images=images[1:], duration=durations, loop=0)
     return path
+
+
+def _pace(durations, span: float) -> str:
+    """The animation's pace against the throw's, for its title: ``durations`` [ms] of the frames, ``span`` [s]
+    of simulated time they cover. A 4.45 s throw shown in 0.39 s read "slow motion ×0.1"; now "fast forward ×11".
+
+    >>> _pace([50] * 30, 0.375), _pace([70] * 5 + [40], 4.45), _pace([50], 0.0)
+    ('; slow motion ×4', '; fast forward ×11', '')
+    """
+    if span <= 0:
+        return ""
+    ratio = sum(durations) / 1000.0 / span
+    return f"; slow motion ×{ratio:.2g}" if ratio >= 1 else f"; fast forward ×{1 / ratio:.2g}"
 
 
 def _frame_durations(times, fps: float) -> list:

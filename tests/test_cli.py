@@ -341,6 +341,19 @@ def test_throw_text_reports_the_stone_energy_and_says_when_the_water_added_some(
     assert "peak" not in out and "added energy" not in out
 
 
+def test_the_energy_note_on_the_height_field_and_a_small_peak():
+    """(2026-12-07, a review) with --water field the note on energy the water added was left out (the field's
+    stone gained 62 % on the body law's pumping, in silence); it is given, saying that moving water may push
+    the stone too. A peak 0.14 % above the release read '+0 %'."""
+    from jaxskip.cli import _percent
+
+    assert (_percent(0.1404), _percent(0.25), _percent(9.96), _percent(72.4)) == ("0.14", "0.25", "10", "72")
+    p = run("throw", "--water", "field", "--duration", "0.15")
+    assert p.returncode == 0, p.stderr
+    assert re.search(r"\(the water added energy: [\d.e-]+ J above an earlier low; on the height field moving water "
+                     r"can also push the stone; with --velocity body", p.stdout), p.stdout
+
+
 def test_coarse_dt_is_warned_about_on_stderr(capsys):
     """A valid but unconverged --dt runs, warns once on stderr naming the flag, and keeps stdout strict JSON."""
     assert main(["throw", "--dt", "0.005", "--json"]) == 0

@@ -259,3 +259,33 @@ def test_an_animation_into_a_missing_folder_is_refused_before_drawing(held_disk,
         plotting.animate_throw(wet, stone, tmp_path / "d.gif")
     with pytest.raises(ParameterError, match=r"path: the folder .*nowhere' of .*x.png' does not exist"):
         plotting.plot_water(wet, stone, tmp_path / "nowhere" / "x.png")
+
+
+def test_water_pictures_word_a_small_scale_and_the_rest_level(held_disk):
+    """(2026-12-07, a review) plot_water's 3-D title read 'clipped at ±0 mm' for a surface disturbed by
+    micrometres (the scale printed with no decimals), and its still water took the colour map's darkest blue
+    (each frame normalised to its own range); plot_throw of a field run labelled z = 0 'water surface' where the
+    field's surface moves."""
+    import dataclasses
+
+    from jaxskip import clanet_disk, rigid_stone
+    from jaxskip.plotting import plot_water
+
+    stone = rigid_stone(clanet_disk(), density=2700.0)
+    height = np.full((8, 8), 0.02)
+    height[3, 4] += 4e-6                               # 4 um: a drop's worth
+    one = (0.0, np.zeros(2), height, np.array([0.0, 0.0, 0.01]), np.array([1.0, 0.0, 0.0, 0.0]))
+    wet = dataclasses.replace(held_disk, field={"depth": 0.02, "spacing": 0.01, "shape": [8, 8], "frames": [one]})
+    fig = plot_water(wet, stone)
+    title = fig.axes[-1].get_title()
+    assert "clipped at ±0.0055 mm" in title, title    # twice the colour scale, the 99.5th percentile: 2.7 um
+    surface = [c for c in fig.axes[-1].collections if hasattr(c, "norm") and c.get_array() is not None][0]
+    assert surface.norm.vmin == pytest.approx(-surface.norm.vmax) and surface.norm.vmax == pytest.approx(0.0055, rel=0.01)
+    plt.close(fig)
+    fig = plot_throw(wet)
+    labels = [t.get_text() for t in fig.axes[0].get_legend().get_texts()]
+    assert "water at rest (the field's surface is not drawn)" in labels and "water surface" not in labels, labels
+    plt.close(fig)
+    fig = plot_throw(held_disk)
+    assert "water surface" in [t.get_text() for t in fig.axes[0].get_legend().get_texts()]
+    plt.close(fig)
