@@ -233,6 +233,11 @@ def simulate_batch(
     lanes = max(min(lanes, n), MIN_LANES_PER_DEVICE * n_devices)
     lanes = -(-lanes // n_devices) * n_devices
     advance, start, refill = _pool(config, lanes, chunk)
+    if sharding is not None:
+        # The stone and the water, placed once on every device: passed as they are, each of the ~120 calls a
+        # grid makes would copy their leaves to the devices again (a host-side cost that stalls the devices).
+        rigid, water = jax.device_put((rigid, water), jax.sharding.NamedSharding(sharding.mesh,
+                                                                                 jax.sharding.PartitionSpec()))
     # in JAX's float type: a float16 or integer throw would compile the pool apart (or fail in it)
     host_throws = jax.tree_util.tree_map(lambda a: np.asarray(a, dtype=jax.dtypes.canonicalize_dtype(np.float64)),
                                          throws)
