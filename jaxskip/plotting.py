@@ -325,7 +325,9 @@ def _check_field(result):
 
 
 def animate_throw(result, stone, path, *, fps: int = 20):
-    """Write an animation (GIF by extension ``.gif``) of the stone over the water, one frame per snapshot.
+    """Write an animation (GIF by extension ``.gif``) of the stone over the water, one frame per snapshot, and in a
+    long flight (a gap between snapshots over :data:`LONG_GAP` times their spacing in contact) frames of the stone
+    along its arc over the water of the snapshot before (the title says so), :data:`GAP_FRAMES` at most.
 
     Top view of the window's surface elevation with the stone's footprint and a colour bar [mm],
     and the side view of the trajectory so far (contacts in red). ``result`` from
@@ -351,9 +353,10 @@ def animate_throw(result, stone, path, *, fps: int = 20):
     fps = check_range("fps", fps, 0.0, 50.0, unit="frames/s", low_open=True)
     field = _check_field(result)
     _check_stone(stone)
-    frames = field["frames"]
+    snapshots = field["frames"]
     depth = field["depth"]
-    lim = _elevation_limit(frames, depth)
+    lim = _elevation_limit(snapshots, depth)
+    frames, water_time = _fill_long_gaps(result, snapshots)
     times, pos = _arc_path(result)                     # the side view's path, as plot_throw draws it
     wet = _in_contact(result, times)
     heading = float(result.throw.heading)
@@ -372,7 +375,8 @@ def animate_throw(result, stone, path, *, fps: int = 20):
                    cmap="RdBu_r", vmin=-lim, vmax=lim, interpolation="bilinear")
         for f in _stone_world(stone, position, orientation):
             top.fill(f[:, 0], f[:, 1], color="0.3", alpha=0.6, lw=0)
-        top.set_title(f"t = {t:.3f} s{slow}; colours clipped at ±{lim:.2g} mm", fontsize=9)
+        held = f" (water: {water_time[i]:.3f} s)" if water_time[i] < t else ""
+        top.set_title(f"t = {t:.3f} s{held}{slow}; colours clipped at ±{lim:.2g} mm", fontsize=9)
         top.set_xlabel("x [m]")
         top.set_ylabel("y [m]")
         seen = times <= t
@@ -397,6 +401,62 @@ def animate_throw(result, stone, path, *, fps: int = 20):
     with writing(path):
         images[0].save(path, save_all=True, append_images=images[1:], duration=durations, loop=0)
     return path
+
+
+#: A gap between two water snapshots longer than this many times the snapshots' spacing in contact (a long flight,
+#: crossed in a few long steps) gets frames of its own in :func:`animate_throw`: :data:`GAP_FRAMES` at most in all.
+LONG_GAP = 3.0
+GAP_FRAMES = 120
+
+
+def _fill_long_gaps(result, snapshots) -> tuple:
+    """``(frames, water_time)``: the snapshots, plus frames inside each gap longer than :data:`LONG_GAP` times the
+    spacing of the snapshots in contact (the smaller of their median gap and ``simulate``'s default 10 ms): a
+    flight, drawn with the stone at its exact pose along the arc (:func:`jaxskip.export.frames`) over the water as
+    at the snapshot before (which the coupled water does not advance past in a long jump either); and for each
+    frame the time [s] of the water it shows. (A throw released 100 m up was 8 frames, 0.8 s of flight apart.)"""
+    from .api import FIELD_CHUNK_TIME
+
+    t = np.array([f[0] for f in snapshots], dtype=float)
+    gaps = np.diff(t)
+    if gaps.size == 0 or not (gaps > 0).any():
+        return list(snapshots), t.tolist()
+    step = min(float(np.median(gaps[gaps > 0])), FIELD_CHUNK_TIME)
+    long = gaps > LONG_GAP * step
+    if not long.any():
+        return list(snapshots), t.tolist()
+    from .export import MAX_FPS
+    from .export import frames as sample
+
+    spacing = max(step, float(gaps[long].sum()) / GAP_FRAMES)   # evenly in time, GAP_FRAMES at most
+    poses = sample(result, fps=min(1.0 / spacing, MAX_FPS))
+    out, water_time = [], []
+    for i, snap in enumerate(snapshots):
+        out.append(snap)
+        water_time.append(t[i])
+        if i < gaps.size and long[i]:
+            for k in np.flatnonzero((poses["time"] > t[i] + 0.5 * spacing) & (poses["time"] < t[i + 1] - 0.5 * spacing)):
+                origin, height = _recentred(result.field, snap[1], snap[2], poses["position"][k])
+                out.append((float(poses["time"][k]), origin, height, poses["position"][k], poses["orientation"][k]))
+                water_time.append(t[i])
+    return out, water_time
+
+
+def _recentred(field: dict, origin, height, position) -> tuple:
+    """The window of a snapshot (``origin`` (2,) [m], column ``height`` (nx, ny) [m]) moved by whole columns to
+    centre on ``position`` (3,) [m], as :func:`jaxskip.coupled.recentre` moves it: columns that enter hold still
+    water (``field["depth"]``). Returns ``(origin, height)``."""
+    l = field["spacing"]  # noqa: E741
+    nx, ny = height.shape
+    old = np.round(np.asarray(origin, dtype=float) / l).astype(int)
+    new = np.round(np.asarray(position[:2], dtype=float) / l).astype(int) - np.array([nx // 2, ny // 2])
+    d = new - old
+    out = np.full_like(height, field["depth"])
+    src_x, src_y = slice(max(d[0], 0), min(nx + d[0], nx)), slice(max(d[1], 0), min(ny + d[1], ny))
+    dst_x, dst_y = slice(max(-d[0], 0), min(nx - d[0], nx)), slice(max(-d[1], 0), min(ny - d[1], ny))
+    if src_x.start < src_x.stop and src_y.start < src_y.stop:
+        out[dst_x, dst_y] = height[src_x, src_y]
+    return new * l, out
 
 
 def _pace(durations, span: float) -> str:

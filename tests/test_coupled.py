@@ -340,3 +340,38 @@ def test_a_field_run_snapshots_the_water_every_ten_ms_of_contact():
     # (the trajectory's first row is the release, at t = 0)
     steps = np.diff(np.searchsorted(r.trajectory["time"], t, side="right"))
     assert np.all(steps[:-1] == round(FIELD_CHUNK_TIME / 2.5e-4)), steps
+
+
+def test_an_animation_of_a_long_flight_gets_frames_along_the_arc(tmp_path):
+    """(2026-12-07, a review) the water is snapshot once per chunk of steps, and a flight is crossed in a few long
+    jumps: a throw released 100 m up animated as 7 frames 0.8 s apart, its title 'slow motion x0.1' for a GIF ten
+    times faster than the throw. A gap between snapshots over LONG_GAP times their spacing in contact now gets
+    frames of its own: the stone at its exact pose along the arc (export.frames), over the snapshot's water moved
+    by whole columns to stay under it, as the coupled window moves."""
+    from jaxskip import simulate
+    from jaxskip.export import frames as sample
+    from jaxskip.plotting import GAP_FRAMES, _fill_long_gaps
+
+    r = simulate(Throw.from_degrees(height=1.0), config=SimConfig(duration=0.6), water_field=SMALL)
+    snaps = r.field["frames"]
+    gaps = np.diff([f[0] for f in snaps])
+    assert gaps.max() > 0.3, gaps                       # the fall: one chunk of long jumps
+    out, water_time = _fill_long_gaps(r, snaps)
+    t = np.array([f[0] for f in out])
+    assert len(snaps) < len(out) <= len(snaps) + GAP_FRAMES and np.all(np.diff(t) > 0), t
+    assert np.diff(t).max() < 0.1 and len(water_time) == len(out)
+    added = [k for k, f in enumerate(out) if not any(f is s for s in snaps)]
+    poses = sample(r, fps=1.0 / np.diff(t[added]).min())
+    for k in added[::10]:
+        time, origin, height, position, orientation = out[k]
+        j = int(np.argmin(np.abs(poses["time"] - time)))
+        assert abs(poses["time"][j] - time) < 1e-9
+        np.testing.assert_allclose(position, poses["position"][j], rtol=0, atol=1e-12)
+        centre = np.asarray(origin) + SMALL.spacing * np.array([12, 12])     # column (nx // 2, ny // 2)
+        assert np.all(np.abs(centre - position[:2]) <= 0.5 * SMALL.spacing + 1e-12), (centre, position)
+        assert water_time[k] < time and height.shape == SMALL.shape
+    # the default throw's snapshots are 10 ms apart in contact: only its first, long hop is filled
+    d = simulate(config=SimConfig(duration=0.2), water_field=SMALL)
+    filled = _fill_long_gaps(d, d.field["frames"])[0]
+    added = [f[0] for f in filled if not any(f is s for s in d.field["frames"])]
+    assert added and all(d.contacts[0].t_end < t < d.contacts[1].t_start for t in added), (added, d.contacts[:2])
