@@ -402,6 +402,11 @@ def _throw(args) -> int:
               f"or passed {DIVERGED_SPEED:g} m/s) with --dt {config.dt:g}: nothing written; take a smaller --dt",
               file=sys.stderr)
         return EXIT_FAILED
+    stone_obj = None
+    if args.trajectory:   # first: it may still refuse (another throw's stone file), before any picture is written
+        from .export import write_trajectory
+
+        stone_obj = write_trajectory(result, args.trajectory, 60.0 if args.fps is None else args.fps)
     if args.plot:
         from .plotting import plot_throw
 
@@ -416,11 +421,6 @@ def _throw(args) -> int:
         if progress:
             print("writing animation ...", file=sys.stderr, flush=True)
         animate_throw(result, stone, args.animate)
-    stone_obj = None
-    if args.trajectory:
-        from .export import write_trajectory
-
-        stone_obj = write_trajectory(result, args.trajectory, 60.0 if args.fps is None else args.fps)
     if args.json:
         out = result.to_dict()
         for key in ("plot", "water_plot", "animate", "trajectory"):

@@ -28,6 +28,7 @@ import json
 import math
 import warnings
 import os
+import re
 
 import jax
 import jax.numpy as jnp
@@ -156,7 +157,22 @@ def _stone_file_owner(obj: str) -> str | None:
         raise ParameterError(f"the trajectory's stone file {obj!r} exists and was not written by jaxskip (it may be "
                              "your own mesh): writing the trajectory would replace it; choose another trajectory "
                              "name or move that file")
-    return first[len(STONE_HEADER):].split(":", 1)[0]
+    return _split_owner(first)[0]
+
+
+def _split_owner(first: str) -> tuple:
+    """A stone file's first line, ``# jaxskip trajectory NAME.csv: the throw``, as ``(NAME.csv, the throw)``. The
+    name ends at its first ``.csv: `` or ``.json: `` (it may hold colons itself: ``run_12:30.csv`` read as
+    ``run_12``), with runs of white space as one (the OBJ's comment line squeezes them)."""
+    m = re.match(r"(.*?\.(?:csv|json)): ", first[len(STONE_HEADER):], flags=re.IGNORECASE | re.DOTALL)
+    if m is None:    # (not a line this module wrote: no name to compare)
+        return "", first
+    return m.group(1), first[len(STONE_HEADER) + m.end():]
+
+
+def _same_name(owner: str, path: str) -> bool:
+    """Whether a stone file's trajectory ``owner`` is ``path``'s file name (white space runs as one)."""
+    return owner.split() == os.path.basename(path).split()
 
 
 def check_stone_file(path) -> None:
@@ -168,7 +184,7 @@ def check_stone_file(path) -> None:
 def _drop_owner(text: str) -> str:
     """A stone file's text without the trajectory name in its first line."""
     first, _, rest = text.partition("\n")
-    return first.split(":", 1)[-1] + "\n" + rest
+    return _split_owner(first)[1] + "\n" + rest
 
 
 def _water_words(result) -> str:
@@ -243,7 +259,7 @@ def write_trajectory(result, path, fps: float = 60.0) -> str:
              f"{float(t.spin) / (2 * math.pi):g} rev/s; {result.bounces} bounces, {result.outcome}; "
              f"{fps:g} frames/s; world frame z up, " + _water_words(result))
     stone = dataclasses.replace(body_mesh(result.rigid), name=about)
-    if owner is not None and owner != os.path.basename(path):
+    if owner is not None and not _same_name(owner, path):
         # the stone of another trajectory (throw.json's, now writing throw.csv): replaced only if it is the
         # same stone of the same throw, told apart by nothing but the trajectory's name
         with open(obj, encoding="utf-8", errors="replace") as fh:

@@ -593,3 +593,15 @@ def test_a_stone_wider_than_the_field_window_is_refused_in_the_clis_words(tmp_pa
     err = capsys.readouterr().err
     assert ("--water field: the stone is 0.8 m across, wider than the field's window (0.64 m); use --water flat or "
             "a stone at most 0.64 m across") in err and "water_field" not in err and "Traceback" not in err
+
+
+def test_a_refused_trajectory_leaves_no_picture_behind(tmp_path, capsys):
+    """(2026-12-07, a review) `--trajectory t.json --plot p.png` where t.stone.obj holds another throw's stone (from
+    t.csv) simulated, wrote p.png, then refused the trajectory: the folder held a picture of one throw beside the
+    trajectory of another. The trajectory is written first, so its refusal leaves nothing new."""
+    assert main(["throw", "--duration", "0.01", "--trajectory", str(tmp_path / "t.csv")]) == 0
+    capsys.readouterr()
+    assert main(["throw", "--duration", "0.05", "--speed", "7", "--trajectory", str(tmp_path / "t.json"),
+                 "--plot", str(tmp_path / "p.png")]) == 2
+    assert "holds the stone of another throw" in capsys.readouterr().err
+    assert not (tmp_path / "p.png").exists() and not (tmp_path / "t.json").exists()

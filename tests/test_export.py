@@ -258,3 +258,19 @@ def test_writing_a_diverged_throw_warns(tmp_path):
     r = dc.replace(simulate(config=SimConfig(duration=0.05)), outcome="diverged")
     with pytest.warns(DivergedWarning, match="this throw diverged .*the trajectory written is not a motion"):
         write_trajectory(r, tmp_path / "d.csv", fps=100.0)
+
+
+@pytest.mark.parametrize("name", ["run_12:30", "run  2", "a: b.csv"])
+def test_a_trajectory_name_with_colons_or_spaces_is_its_own_stone_files_owner(default_throw, tmp_path, name):
+    """(2026-12-07, a review) the stone file's owner was read as the text before the first ':' of its first line,
+    and the OBJ comment squeezes runs of spaces: writing 'run_12:30.csv' (or 'run  2.csv') again, for another
+    throw, was refused as 'written with the trajectory run_12'. A trajectory overwrites its own stone file."""
+    from jaxskip import simulate
+
+    path = tmp_path / f"{name}.csv"
+    write_trajectory(default_throw, path)
+    other = simulate(stone="clanet", config=SimConfig(duration=0.05))
+    write_trajectory(other, path)                               # its own stone file: replaced
+    assert "clanet" in (tmp_path / f"{name}.stone.obj").read_text().splitlines()[0]
+    with pytest.raises(ParameterError, match="holds the stone of another throw"):
+        write_trajectory(default_throw, tmp_path / f"{name}.json")   # another trajectory's, of another throw
