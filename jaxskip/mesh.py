@@ -25,7 +25,7 @@ from pathlib import Path
 import numpy as np
 
 from ._docs import document_fields
-from ._files import writing
+from ._files import check_file_path, writing
 from ._checks import ParameterError, check_positive
 
 __all__ = [
@@ -343,7 +343,20 @@ def validate_mesh(vertices, faces, *, name: str = "mesh", _numbering: _Numbering
         raise MeshError(f"{name}: {at.tri(bad[0])} {at.verts(f[bad[0]])} is degenerate "
                         f"(area {areas[bad[0]]:.3g} m^2); remove it or fix its vertices")
 
-    _check_edges(f, n_v, name, at)
+    try:
+        _check_edges(f, n_v, name, at)
+    except MeshError as exc:
+        # A mesh exported face by face (as from STL) repeats each corner per face: its triangles share no vertex,
+        # so every edge reads as a hole. Say so, rather than 'add the missing triangles'.
+        _, first, count = np.unique(v, axis=0, return_index=True, return_counts=True)
+        if np.any(count > 1):
+            again = np.flatnonzero(~np.isin(np.arange(n_v), first))
+            twin = first[np.flatnonzero(np.all(v[first] == v[again[0]], axis=1))[0]]
+            raise MeshError(f"{exc}. But {again.size} of its {n_v} vertices repeat another's position (the first: "
+                            f"{at.vert(again[0])} at {v[again[0]].tolist()}, as {at.vert(twin)}): the triangles do "
+                            "not share their corners, as in a mesh exported face by face (STL); merge (weld) the "
+                            "equal vertices, e.g. Blender's Merge by Distance") from None
+        raise
 
     parts = _parts(f, n_v)
     if parts.max() > 0:
@@ -496,13 +509,18 @@ def mass_properties(mesh: TriMesh, *, density: float | None = None,
         density = _positive_scalar(density, "density [kg/m^3]")
     else:
         mass = _positive_scalar(mass, "mass [kg]")
-    origin = mesh.vertices.mean(axis=0)
-    tri = mesh.triangles - origin
-    a, b, c = tri[:, 0], tri[:, 1], tri[:, 2]
-    d = np.einsum("ij,ij->i", a, np.cross(b, c))
+    with np.errstate(over="ignore", invalid="ignore"):   # (a non-finite volume is named below)
+        origin = mesh.vertices.mean(axis=0)
+        tri = mesh.triangles - origin
+        a, b, c = tri[:, 0], tri[:, 1], tri[:, 2]
+        d = np.einsum("ij,ij->i", a, np.cross(b, c))
+        volume = float(d.sum() / 6.0)
     s = a + b + c
 
-    volume = float(d.sum() / 6.0)
+    if not math.isfinite(volume):   # (a NaN read as '<= 0; the mesh must be closed with outward normals')
+        raise MeshError(f"{mesh.name}: its volume is not a finite number ({volume}): a vertex coordinate is not "
+                        "finite, or the mesh is far too large for floating point (it is read in metres); run "
+                        "validate_mesh")
     if not volume > 0.0:
         raise MeshError(f"{mesh.name}: signed volume is {volume:.6g} m^3 <= 0; the mesh must be "
                         "closed with outward normals (run validate_mesh)")
@@ -553,20 +571,23 @@ def _obj_vertex(fields: list[str]) -> list[float]:
     return xyz[:3]
 
 
-def _check_fan(vertices: list[list[float]], idx: list[int]) -> None:
-    """ValueError unless the fan ``(0, k, k+1)`` of polygon ``idx`` is a triangulation of it: every fan
-    triangle must turn the same way as the polygon (its Newell normal). A polygon that is not convex as
-    seen from its first vertex (an L-shaped face listed from its reflex corner) fans into overlapping
-    triangles, one facing into the stone, which the mesh's edge and volume checks cannot see."""
+def _fan_corner(vertices: list[list[float]], idx: list[int]) -> list[int]:
+    """Polygon ``idx`` listed from its first corner whose fan ``(0, k, k+1)`` triangulates it (``idx`` itself
+    when its own first corner does); ValueError when none does. Every fan triangle must turn the same way
+    as the polygon (its Newell normal). A polygon that is not convex as seen from its first vertex (an
+    L-shaped face listed from its reflex corner) fans into overlapping triangles, one facing into the stone,
+    which the mesh's edge and volume checks cannot see; a convex one listed from a corner on a straight edge
+    (the midpoint of two others) fans into a triangle of no area, so another corner is taken."""
     p = np.asarray([vertices[k] for k in idx], dtype=np.float64)
     newell = np.cross(p, np.roll(p, -1, axis=0)).sum(axis=0)
-    fan = np.cross(p[1:-1] - p[0], p[2:] - p[0])
-    turn = fan @ newell
-    if not np.all(turn > 1e-12 * np.linalg.norm(fan, axis=1) * np.linalg.norm(newell)):
-        raise ValueError(f"the {len(idx)}-sided face is not convex as seen from its first vertex, so it cannot be "
-                         "fan-triangulated (its triangles would overlap and fold inwards); triangulate it in the "
-                         "exporting program (e.g. Blender's Triangulate modifier) or list it from a corner that "
-                         "sees every edge")
+    for start in range(len(idx)):
+        q = np.roll(p, -start, axis=0)
+        fan = np.cross(q[1:-1] - q[0], q[2:] - q[0])
+        if np.all(fan @ newell > 1e-12 * np.linalg.norm(fan, axis=1) * np.linalg.norm(newell)):
+            return idx[start:] + idx[:start]
+    raise ValueError(f"the {len(idx)}-sided face is not convex (no corner sees every edge), so it cannot be "
+                     "fan-triangulated (its triangles would overlap and fold inwards); triangulate it in the "
+                     "exporting program (e.g. Blender's Triangulate modifier)")
 
 
 def _obj_face(fields: list[str], n_vertices: int) -> list[int]:
@@ -599,8 +620,9 @@ def read_obj(path: str | os.PathLike, *, name: str | None = None) -> TriMesh:
     ``f i j k ...`` lines whose entries may be ``i``, ``i/t``, ``i/t/n`` or
     ``i//n``; indices are 1-based, negative ones count back from the last
     vertex defined so far.  Polygons with more than 3 vertices are
-    fan-triangulated ``(0, k, k+1)``; one that is not convex as seen from its
-    first vertex (the fan would fold) is refused.  Numbers are plain ASCII.  Lines starting with ``vn vt o g s
+    fan-triangulated ``(0, k, k+1)`` from their first corner that sees every edge (a corner on a straight
+    edge, or the reflex corner of an L, gives way to the next that works); a polygon no corner of which sees
+    every edge (a U: the fan would fold) is refused.  Numbers are plain ASCII.  Lines starting with ``vn vt o g s
     usemtl mtllib``, comments (``#``) and blank lines are ignored; anything
     else is an error.  Nothing is ever evaluated.
 
@@ -673,7 +695,7 @@ def read_obj(path: str | os.PathLike, *, name: str | None = None) -> TriMesh:
                 if len(faces) + len(idx) - 2 > MAX_OBJ_TRIANGLES:
                     raise ValueError(f"more than {MAX_OBJ_TRIANGLES} triangles")
                 if len(idx) > 3 and len(set(idx)) == len(idx):   # (a repeated vertex: a degenerate triangle, below)
-                    _check_fan(vertices, idx)
+                    idx = _fan_corner(vertices, idx)
                 faces.extend((idx[0], idx[k], idx[k + 1]) for k in range(1, len(idx) - 1))
                 face_lines.extend([lineno] * (len(idx) - 2))
             else:
@@ -704,16 +726,23 @@ def write_obj(path: str | os.PathLike, mesh: TriMesh) -> None:
     """Write a mesh as a Wavefront OBJ file (``v`` and ``f`` lines only).
 
     Coordinates [m] are written with ``repr`` (shortest exact decimal), so
-    ``read_obj(write_obj(...))`` reproduces vertices and faces bit for bit.
+    ``read_obj(write_obj(...))`` reproduces the vertices and faces of a valid mesh (:func:`validate_mesh`:
+    every vertex used by a triangle) bit for bit; a vertex no triangle uses is written but not read back.
 
     Parameters
     ----------
     path : str or os.PathLike
-        Destination file (overwritten).
+        Destination file (overwritten), in a folder that exists.
     mesh : TriMesh
         Mesh to write; faces become 1-based indices.
     """
+    if not isinstance(path, (str, os.PathLike)):   # (a bare TypeError from Path(123) before)
+        raise MeshError(f"path must be a file name (str or os.PathLike), got {path!r}")
     text = obj_text(mesh)
+    try:
+        check_file_path("path", path)   # (a missing folder was a raw FileNotFoundError)
+    except ParameterError as exc:
+        raise MeshError(str(exc)) from None   # (MeshError is a ParameterError, as read_obj raises)
     with writing(path):
         Path(path).write_text(text, encoding="utf-8")
 

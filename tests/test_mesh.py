@@ -313,10 +313,36 @@ def test_read_obj_refuses_a_polygon_that_fans_into_folded_triangles(tmp_path):
     up = mesh.normals[:, 2] > 0.5
     assert mesh.areas[up].sum() == pytest.approx(3 * 0.02 ** 2, rel=1e-12)    # the L's area, 3 unit squares
     assert mass_properties(mesh, density=1.0).volume == pytest.approx(3 * 0.02 ** 2 * 0.006, rel=1e-12)
+    # (2026-12-07) listed from another corner, the face is fanned from the first corner that sees every edge
+    other = tmp_path / "other.obj"
+    other.write_text(_l_prism_obj(1))
+    again = read_obj(other)
+    assert again.areas[again.normals[:, 2] > 0.5].sum() == pytest.approx(3 * 0.02 ** 2, rel=1e-12)
+    assert mass_properties(again, density=1.0).volume == pytest.approx(3 * 0.02 ** 2 * 0.006, rel=1e-12)
+    # a U-shaped face: no corner sees every edge, so no fan triangulates it
+    u = np.array([[0, 0], [3, 0], [3, 2], [2, 2], [2, 1], [1, 1], [1, 2], [0, 2]], float) * 0.01
+    lines = [f"v {x!r} {y!r} 0.006" for x, y in u.tolist()] + [f"v {x!r} {y!r} 0.0" for x, y in u.tolist()]
+    lines.append("f " + " ".join(str(k + 1) for k in range(8)))
+    lines.append("f " + " ".join(str((-k) % 8 + 9) for k in range(8)))
+    lines += [f"f {i + 1} {i + 9} {(i + 1) % 8 + 9} {(i + 1) % 8 + 1}" for i in range(8)]
     bad = tmp_path / "bad.obj"
-    bad.write_text(_l_prism_obj(1))
-    with pytest.raises(MeshError, match=r"bad.obj, line 13: the 6-sided face is not convex as seen from its first vertex"):
+    bad.write_text("\n".join(lines) + "\n")
+    with pytest.raises(MeshError, match=r"bad.obj, line 17: the 8-sided face is not convex \(no corner sees every edge\)"):
         read_obj(bad)
+
+
+def test_read_obj_fans_a_convex_face_from_a_corner_off_its_straight_edges(tmp_path):
+    """(2026-12-07, a review) a convex pentagon listed from a corner next to a midpoint of one of its edges,
+    f 5 9 6 7 8 (9 halfway between 5 and 6, as a modeller leaves a split edge), was refused as 'not convex': its
+    first fan triangle (5, 9, 6) has no area. It is fanned from its next corner now: the box has its volume."""
+    a, b, c = 0.04, 0.03, 0.01
+    v = [(0, 0, 0), (a, 0, 0), (a, b, 0), (0, b, 0), (0, 0, c), (a, 0, c), (a, b, c), (0, b, c), (a / 2, 0, c)]
+    faces = ["1 4 3 2", "5 9 6 7 8", "1 2 6 9 5", "3 4 8 7", "1 5 8 4", "2 3 7 6"]
+    path = tmp_path / "split.obj"
+    path.write_text("\n".join([f"v {x!r} {y!r} {z!r}" for x, y, z in v] + [f"f {f}" for f in faces]) + "\n")
+    back = read_obj(path)
+    assert mass_properties(back, density=1.0).volume == pytest.approx(a * b * c, rel=1e-12)
+    assert back.areas.min() > 0.0 and back.n_triangles == 2 + 3 + 3 + 2 + 2 + 2
 
 
 def test_read_obj_takes_vertex_colours(tmp_path):
@@ -480,3 +506,34 @@ def test_read_obj_refuses_what_is_not_a_regular_file_and_oversized_meshes(tmp_pa
 def test_mesh_inputs_are_refused_by_name(call, message):
     with pytest.raises(MeshError, match=message):
         call()
+
+
+def test_mesh_review_2026_12_07(tmp_path):
+    """(2026-12-07, a review) a cube exported face by face (each face its own four corners, as from STL) was
+    refused as 'a hole ... add the missing triangles': it is named as unwelded now. mass_properties of a mesh
+    with a NaN, or a thousandfold too large for floating point, said 'signed volume is nan <= 0; ... outward
+    normals' (and NumPy warned); it says what is wrong. write_obj into a missing folder raised a raw
+    FileNotFoundError and write_obj(123, mesh) a TypeError; both are MeshErrors naming the path. A mass at
+    the top of the density range (25 000 kg/m^3) was refused by rounding, with a message whose range held it."""
+    import warnings
+
+    from jaxskip import rigid_stone
+    from jaxskip.mesh import TriMesh, validate_mesh, write_obj
+
+    cube = box(0.04, 0.04, 0.04)
+    v, f = np.asarray(cube.vertices), np.asarray(cube.faces)
+    unwelded = TriMesh(v[f].reshape(-1, 3), np.arange(3 * len(f)).reshape(-1, 3), name="stl cube")
+    with pytest.raises(MeshError, match=r"belongs to only one triangle.*But 28 of its 36 vertices repeat another's "
+                                        r"position.*merge \(weld\) the equal vertices"):
+        validate_mesh(unwelded.vertices, unwelded.faces, name=unwelded.name)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")      # (no NumPy overflow warning either)
+        for bad in (TriMesh(v * np.nan, f, name="nan"), TriMesh(v * 1e160, f, name="huge")):
+            with pytest.raises(MeshError, match=r"its volume is not a finite number"):
+                mass_properties(bad, density=1.0)
+    with pytest.raises(MeshError, match=r"path: the folder .*nowhere' of .* does not exist"):
+        write_obj(tmp_path / "nowhere" / "c.obj", cube)
+    with pytest.raises(MeshError, match=r"path must be a file name"):
+        write_obj(123, cube)
+    top = 25000.0 * float(mass_properties(cube, density=1.0).volume) * (1 + 1e-12)   # the top, and a rounding over
+    assert float(rigid_stone(cube, mass=top).mass) == pytest.approx(top, rel=1e-12)
