@@ -139,6 +139,23 @@ def _size_message(name: str, shown: str) -> str:
             "scaling by 0.001)")
 
 
+def body_frame(mesh: TriMesh) -> tuple[np.ndarray, np.ndarray]:
+    """Where :func:`rigid_stone` puts the body frame in ``mesh``'s own frame: the centre of mass ``c`` (3,) [m]
+    of the uniform solid, and ``axes`` (3, 3), the principal axes as columns (:func:`principal_axes`), so
+    that a point ``p`` of the mesh is at ``axes.T @ (p - c)`` in the body frame and, at a trajectory frame with
+    position ``x`` and quaternion ``q``, at ``x + R(q) axes.T (p - c)`` in the world: how to drive the mesh
+    you made (with its own vertex order, UVs and materials) by :func:`jaxskip.export.frames`. A uniform
+    density's frame, which is the stone's for any density or mass given to :func:`rigid_stone`.
+
+    >>> from jaxskip.stones import clanet_disk
+    >>> c, axes = body_frame(clanet_disk().translated([0.1, 0.0, 0.0]))
+    >>> bool(np.allclose(c, [0.1, 0.0, 0.0], atol=1e-12)), bool(np.allclose(axes, np.eye(3), atol=1e-12))
+    (True, True)
+    """
+    props = mass_properties(mesh, density=1.0)
+    return np.asarray(props.center_of_mass, dtype=np.float64), principal_axes(np.asarray(props.inertia, np.float64))
+
+
 def principal_axes(inertia: np.ndarray) -> np.ndarray:
     """Rotation (3, 3) whose columns are the principal axes, moments ascending, det +1.
 
@@ -272,7 +289,7 @@ def rigid_stone(mesh: TriMesh, *, density: float | None = None, mass: float | No
                       f"kg/m^3 < {FLOATS_BELOW:g}): the force laws have no buoyancy (the water pushes by its dynamic "
                       "pressure alone), so where a real stone would float this one sinks once it is slow",
                       AccuracyWarning, stacklevel=2)
-    axes = principal_axes(np.asarray(props.inertia, dtype=np.float64))
+    axes = principal_axes(np.asarray(props.inertia, dtype=np.float64))   # (body_frame's, for any density)
     v = (np.asarray(mesh.vertices, dtype=np.float64) - np.asarray(props.center_of_mass)) @ axes
     radius = float(np.max(np.linalg.norm(v, axis=1)))
     if not RADIUS_RANGE[0] <= radius <= RADIUS_RANGE[1]:

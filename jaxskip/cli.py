@@ -406,7 +406,11 @@ def _throw(args) -> int:
     if args.trajectory:   # first: it may still refuse (another throw's stone file), before any picture is written
         from .export import write_trajectory
 
-        stone_obj = write_trajectory(result, args.trajectory, 60.0 if args.fps is None else args.fps)
+        from .stones import load_stone
+
+        # (the mesh the stone was made from: its vertex order in the stone file, and where the body frame lies in it)
+        stone_obj = write_trajectory(result, args.trajectory, 60.0 if args.fps is None else args.fps,
+                                     mesh=load_stone(values["stone"])[0])
     if args.plot:
         from .plotting import plot_throw
 

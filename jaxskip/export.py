@@ -38,7 +38,7 @@ from . import quaternion as quat
 from ._checks import ParameterError, check_range
 from ._files import writing
 from .api import ThrowResult
-from .body import RigidStone
+from .body import RigidStone, body_frame
 from .mesh import TriMesh, obj_text, write_obj
 from .simulate import _momentum_from_spin, _one_float_type, free_rotation
 
@@ -196,7 +196,64 @@ def _water_words(result) -> str:
             f"{result.field['spacing']:g} m following the stone), not written here")
 
 
-def write_trajectory(result, path, fps: float = 60.0) -> str:
+def _quaternion(R: np.ndarray) -> np.ndarray:
+    """The unit quaternion (w, x, y, z), w >= 0, of a rotation matrix ``R`` (3, 3) (Shepperd's method: the
+    largest of the four squares first, so no division by a small number)."""
+    t = np.trace(R)
+    squares = np.array([1 + t, 1 + 2 * R[0, 0] - t, 1 + 2 * R[1, 1] - t, 1 + 2 * R[2, 2] - t])
+    k = int(np.argmax(squares))
+    r = 0.5 * math.sqrt(squares[k])
+    if k == 0:
+        q = [r, (R[2, 1] - R[1, 2]) / (4 * r), (R[0, 2] - R[2, 0]) / (4 * r), (R[1, 0] - R[0, 1]) / (4 * r)]
+    elif k == 1:
+        q = [(R[2, 1] - R[1, 2]) / (4 * r), r, (R[0, 1] + R[1, 0]) / (4 * r), (R[0, 2] + R[2, 0]) / (4 * r)]
+    elif k == 2:
+        q = [(R[0, 2] - R[2, 0]) / (4 * r), (R[0, 1] + R[1, 0]) / (4 * r), r, (R[1, 2] + R[2, 1]) / (4 * r)]
+    else:
+        q = [(R[1, 0] - R[0, 1]) / (4 * r), (R[0, 2] + R[2, 0]) / (4 * r), (R[1, 2] + R[2, 1]) / (4 * r), r]
+    q = np.asarray(q)
+    return q if q[0] >= 0 else -q
+
+
+def mesh_frame(result, mesh: TriMesh) -> dict:
+    """Where the body frame of ``result``'s stone lies in ``mesh``'s own frame, to drive your mesh (its vertex
+    order, UVs and materials) by :func:`frames`: ``{"center_of_mass": (3,) [m], "rotation": (4,) quaternion
+    (w, x, y, z)}``, so that the mesh's point ``p`` is at ``R(rotation) (p - center_of_mass)`` in the body frame
+    and at ``x + R(q) R(rotation) (p - center_of_mass)`` in the world at a frame of position ``x`` and
+    quaternion ``q`` (:func:`jaxskip.body.body_frame`).
+
+    ``mesh``: the :class:`jaxskip.TriMesh` the stone was made from (``load_stone(name)[0]`` for a built-in
+    name or an ``.obj`` path); one whose triangles, so placed, are not the stone's is refused with a
+    :class:`~jaxskip.ParameterError`.
+
+    >>> from jaxskip import simulate
+    >>> from jaxskip.stones import load_stone
+    >>> m = mesh_frame(simulate(stone="clanet"), load_stone("clanet")[0])
+    >>> bool(np.allclose(m["rotation"], [1.0, 0.0, 0.0, 0.0], atol=1e-9))     # the disk keeps its own axes
+    True
+    """
+    centre, axes = _mesh_axes(result, mesh)
+    return {"center_of_mass": centre, "rotation": _quaternion(axes.T)}
+
+
+def _mesh_axes(result, mesh) -> tuple:
+    """:func:`mesh_frame`'s checks, and its centre of mass (3,) [m] and principal axes (3, 3) (columns)."""
+    _check_result(result)
+    if not isinstance(mesh, TriMesh):
+        raise ParameterError(f"mesh must be the jaxskip.TriMesh the stone was made from (load_stone(name)[0]), "
+                             f"got {type(mesh).__name__}")
+    if result.rigid is None:
+        raise ParameterError("result has no stone (rigid): a mesh frame needs a ThrowResult from jaxskip.simulate")
+    centre, axes = body_frame(mesh)
+    placed = ((np.asarray(mesh.vertices, dtype=np.float64) - centre) @ axes)[np.asarray(mesh.faces)]
+    stone = np.asarray(result.rigid.triangles, dtype=np.float64)
+    if placed.shape != stone.shape or not np.allclose(placed, stone, rtol=0.0, atol=1e-5 * float(result.rigid.radius)):
+        raise ParameterError(f"mesh {mesh.name!r} is not the stone this throw was simulated with ({stone.shape[0]} "
+                             f"triangles, {result.stone_name!r}): give the mesh it was made from")
+    return centre, axes
+
+
+def write_trajectory(result, path, fps: float = 60.0, mesh: TriMesh | None = None) -> str:
     """Write :func:`frames` of ``result`` to ``path`` and the stone beside it; return the stone's path.
 
     ``result``: a :class:`jaxskip.ThrowResult` (:func:`jaxskip.simulate`). ``path``: a ``str`` or
@@ -214,6 +271,11 @@ def write_trajectory(result, path, fps: float = 60.0) -> str:
       the names; ``units`` gives them, ``in_water`` as true/false), and, for a throw on a height field
       (``simulate(water_field=...)``), ``"water"``: the grid as :attr:`jaxskip.ThrowResult.field` gives it,
       without its snapshots (the surface itself is not written; the ``about`` text says so).
+
+    ``mesh``: optional, the :class:`jaxskip.TriMesh` the stone was made from (``load_stone(name)[0]``; checked
+    by :func:`mesh_frame`). With it the stone's OBJ keeps that mesh's vertex order, its comment line and the
+    JSON (``"mesh_frame"``: ``center_of_mass`` [m], ``rotation`` (w, x, y, z)) say where the body frame lies in
+    the mesh's own frame: drive your own mesh (UVs, materials) by ``x + R(q) R(rotation) (p - center_of_mass)``.
 
     The stone is written in the body frame those quaternions rotate (:func:`body_mesh`) as an OBJ at
     :func:`stone_path` (``PATH`` with :data:`STONE_SUFFIX`: ``throw.csv`` -> ``throw.stone.obj``), its first
@@ -246,6 +308,7 @@ def write_trajectory(result, path, fps: float = 60.0) -> str:
         if os.path.isdir(target):
             raise ParameterError(f"{name} {target!r} is a folder, not a file: choose another trajectory path")
     owner = _stone_file_owner(obj)   # (a file jaxskip did not write is refused before anything is written)
+    placed = None if mesh is None else _mesh_axes(result, mesh)
     if result.outcome == "diverged":   # (its files gave no sign of it: energy growing to 1e5 J, written as any other)
         from .simulate import DivergedWarning
 
@@ -258,7 +321,14 @@ def write_trajectory(result, path, fps: float = 60.0) -> str:
              f"{math.degrees(float(t.tilt)):g} deg, attack {math.degrees(float(t.attack)):g} deg, spin "
              f"{float(t.spin) / (2 * math.pi):g} rev/s; {result.bounces} bounces, {result.outcome}; "
              f"{fps:g} frames/s; world frame z up, " + _water_words(result))
-    stone = dataclasses.replace(body_mesh(result.rigid), name=about)
+    if placed is None:
+        stone = dataclasses.replace(body_mesh(result.rigid), name=about)
+    else:   # the mesh's own vertex order; where its frame lies
+        c, axes = placed
+        about += (f"; vertices in the order of {mesh.name}, whose point p is at R(rotation) (p - c) here: c = "
+                  f"({', '.join(f'{x:.9g}' for x in c)}) m, rotation (w, x, y, z) = "
+                  f"({', '.join(f'{x:.9g}' for x in _quaternion(axes.T))})")
+        stone = TriMesh((np.asarray(mesh.vertices, dtype=np.float64) - c) @ axes, np.asarray(mesh.faces), name=about)
     if owner is not None and not _same_name(owner, path):
         # the stone of another trajectory (throw.json's, now writing throw.csv): replaced only if it is the
         # same stone of the same throw, told apart by nothing but the trajectory's name
@@ -280,6 +350,8 @@ def write_trajectory(result, path, fps: float = 60.0) -> str:
     out = {"about": about, "fps": fps, "units": dict(zip(keys + ("in_water",), ("s", "m", "m", "m", "-", "-", "-",
                                                                                 "-", "m/s", "m/s", "m/s", "bool"))),
            "stone_obj": os.path.basename(obj),
+           **({"mesh_frame": {"center_of_mass": placed[0].tolist(), "rotation": _quaternion(placed[1].T).tolist(),
+                              "units": {"center_of_mass": "m", "rotation": "-"}}} if placed is not None else {}),
            **({"water": {k: v for k, v in result.field.items() if k != "frames"}} if result.field else {}),
            "frames": {**{k: table[:, c].tolist() for c, k in enumerate(keys)},
                       "in_water": f["in_water"].tolist()}}
@@ -288,5 +360,5 @@ def write_trajectory(result, path, fps: float = 60.0) -> str:
     return obj
 
 
-__all__ = ["COLUMNS", "MAX_FPS", "STONE_HEADER", "STONE_SUFFIX", "body_mesh", "check_stone_file", "frames", "stone_path",
-           "write_trajectory"]
+__all__ = ["COLUMNS", "MAX_FPS", "STONE_HEADER", "STONE_SUFFIX", "body_mesh", "check_stone_file", "frames", "mesh_frame",
+           "stone_path", "write_trajectory"]

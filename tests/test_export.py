@@ -274,3 +274,42 @@ def test_a_trajectory_name_with_colons_or_spaces_is_its_own_stone_files_owner(de
     assert "clanet" in (tmp_path / f"{name}.stone.obj").read_text().splitlines()[0]
     with pytest.raises(ParameterError, match="holds the stone of another throw"):
         write_trajectory(default_throw, tmp_path / f"{name}.json")   # another trajectory's, of another throw
+
+
+def test_the_mesh_frame_drives_your_own_mesh(tmp_path):
+    """(2026-12-07, a review) the stone file beside a trajectory had its vertices sorted (np.unique) and nothing
+    said where the body frame lay in the user's mesh, so an animator could not drive their own (textured) mesh
+    by the frames. mesh_frame gives it (centre of mass, rotation); with mesh= the stone file keeps the mesh's
+    vertex order and the JSON records the frame; a mesh that is not the stone is refused."""
+    import jax.numpy as jnp
+
+    from jaxskip import TriMesh, read_obj
+    from jaxskip.export import mesh_frame
+    from jaxskip.quaternion import to_matrix
+    from jaxskip.stones import irregular_pebble
+
+    pebble = irregular_pebble(seed=2)
+    turn = np.asarray(to_matrix(jnp.asarray([0.9, 0.1, -0.3, 0.2]) / np.linalg.norm([0.9, 0.1, -0.3, 0.2])))
+    mine = TriMesh(np.asarray(pebble.vertices) @ turn.T + np.array([0.3, -0.2, 0.05]), pebble.faces, name="mine")
+    r = simulate(stone=mine, config=SimConfig(duration=0.05))
+    m = mesh_frame(r, mine)
+    R = np.asarray(to_matrix(jnp.asarray(m["rotation"])))
+    p = np.asarray(mine.vertices)
+    body = (p - m["center_of_mass"]) @ R.T
+    np.testing.assert_allclose(body[np.asarray(mine.faces)], np.asarray(r.rigid.triangles), atol=1e-6)
+    # the world vertices at a frame: x + R(q) R(rotation) (p - c), as the simulator places the stone
+    f = frames(r, fps=100.0)
+    k = len(f["time"]) // 2
+    Q = np.asarray(to_matrix(jnp.asarray(f["orientation"][k])))
+    world = f["position"][k] + body @ Q.T
+    np.testing.assert_allclose(world[np.asarray(mine.faces)],
+                               f["position"][k] + np.asarray(r.rigid.triangles) @ Q.T, atol=1e-6)
+    obj = write_trajectory(r, tmp_path / "t.json", mesh=mine)
+    back = read_obj(obj)
+    np.testing.assert_allclose(np.asarray(back.vertices), body, atol=1e-12)    # the mesh's own vertex order
+    np.testing.assert_array_equal(np.asarray(back.faces), np.asarray(mine.faces))
+    saved = json.loads((tmp_path / "t.json").read_text())["mesh_frame"]
+    np.testing.assert_allclose(saved["center_of_mass"], m["center_of_mass"], rtol=0, atol=1e-15)
+    np.testing.assert_allclose(saved["rotation"], m["rotation"], rtol=0, atol=1e-15)
+    with pytest.raises(ParameterError, match="is not the stone this throw was simulated with"):
+        mesh_frame(r, irregular_pebble(seed=3))
