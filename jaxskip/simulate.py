@@ -273,7 +273,7 @@ def warn_if_unstable(config: "SimConfig", stone: RigidStone, water: WaterParams,
     # (beyond ACCURATE_DT, warn_if_coarse already asks for dt <= ACCURATE_DT: enough where the bound is above it)
     if config.dt > bound and not (config.dt > ACCURATE_DT and bound >= ACCURATE_DT):
         warnings.warn(f"dt = {config.dt * 1e3:g} ms is longer than this stone's contact-step stability estimate, "
-                      f"{bound * 1e3:.3g} ms at {fastest:.3g} m/s (jaxskip.simulate.contact_step_bound): a light, "
+                      f"{bound * 1e3:.3g} ms at {fastest:.3g} m/s (contact_step_bound of the module jaxskip.simulate): a light, "
                       f"thin or fast stone can then gain energy in contact; take dt <= {bound * 1e3:.3g} ms",
                       StabilityWarning, stacklevel=stacklevel)
 

@@ -47,7 +47,7 @@ water = water_params()
 # 5° attack: the stone's speed after its first contact must not exceed its speed before it.
 # "Fails" = energy gained, or a non-finite state. This is the paper stone at 2650 kg/m³ with its tilt
 # held: a free stone, a lighter or a thinner one fails at shorter steps, where the water swings its
-# tilt faster than the step resolves. `jaxskip.simulate.contact_step_bound` estimates that step
+# tilt faster than the step resolves. `contact_step_bound` (`from jaxskip.simulate import contact_step_bound`) estimates that step
 # (`simulate` warns beyond it; docs/model.md, "Stability of the contact step"), printed below for this stone.
 
 # %%
