@@ -571,6 +571,23 @@ def _obj_vertex(fields: list[str]) -> list[float]:
     return xyz[:3]
 
 
+def _joined_lines(lines: list[str]):
+    """``(number, line)`` for each logical line of an OBJ file: a line whose text before any ``#`` ends in a
+    backslash is joined with the next (numbered as its first physical line)."""
+    number, pending = 0, None
+    for k, line in enumerate(lines, start=1):
+        if pending is not None:
+            line = pending + " " + line
+        else:
+            number = k
+        code = line.split("#", 1)[0].rstrip()
+        if code.endswith("\\") and k < len(lines):
+            pending = code[:-1]
+            continue
+        pending = None
+        yield number, line
+
+
 def _fan_corner(vertices: list[list[float]], idx: list[int]) -> list[int]:
     """Polygon ``idx`` listed from its first corner whose fan ``(0, k, k+1)`` triangulates it (``idx`` itself
     when its own first corner does); ValueError when none does. Every fan triangle must turn the same way
@@ -643,7 +660,8 @@ def read_obj(path: str | os.PathLike, *, name: str | None = None) -> TriMesh:
     Raises
     ------
     MeshError
-        If the file is missing, too large, not UTF-8 text, has a malformed
+        If the file is missing, too large, not text (bytes beyond ASCII are read as UTF-8, or else as
+        Latin-1: they can only stand in comments and names, which are not parsed), has a malformed
         line (the message gives file and line number) or is not a valid mesh.
     """
     if not isinstance(path, (str, os.PathLike)):
@@ -666,7 +684,15 @@ def read_obj(path: str | os.PathLike, *, name: str | None = None) -> TriMesh:
             data = fh.read(MAX_OBJ_BYTES + 1)  # the file may have grown since fstat
         if len(data) > MAX_OBJ_BYTES:
             raise MeshError(f"OBJ file {str(path)!r} is over {MAX_OBJ_BYTES} bytes (50 MiB); no more are accepted")
-        text = data.decode("utf-8-sig")
+        try:
+            text = data.decode("utf-8-sig")
+        except UnicodeDecodeError:
+            # Geometry is ASCII: a comment or a material name in Windows-1252 or Latin-1 (as Windows exporters
+            # write "größe") refused the whole file. Those bytes are read as Latin-1 and never parsed; a file with
+            # NUL bytes (UTF-16, or not text) is still refused.
+            if b"\x00" in data:
+                raise
+            text = data.decode("latin-1")
     except (OSError, UnicodeDecodeError) as err:
         raise MeshError(f"cannot read OBJ file {str(path)!r}: {err}") from None
     del data
@@ -678,8 +704,9 @@ def read_obj(path: str | os.PathLike, *, name: str | None = None) -> TriMesh:
     vertices: list[list[float]] = []
     faces: list[tuple[int, int, int]] = []
     face_lines: list[int] = []   # the line each triangle came from, for the messages of validate_mesh
-    # Lines end at "\n" only (str.splitlines would also split at U+2028, form feeds, ... inside a comment).
-    for lineno, line in enumerate(text.replace("\r\n", "\n").replace("\r", "\n").split("\n"), start=1):
+    # Lines end at "\n" only (str.splitlines would also split at U+2028, form feeds, ... inside a comment); a
+    # backslash ending a line (outside a comment) continues it on the next, as the OBJ format allows.
+    for lineno, line in _joined_lines(text.replace("\r\n", "\n").replace("\r", "\n").split("\n")):
         if len(line) > MAX_OBJ_LINE:
             raise MeshError(f"{fname}, line {lineno}: {len(line)} characters; at most {MAX_OBJ_LINE} a line")
         tokens = line.split("#", 1)[0].split()

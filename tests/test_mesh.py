@@ -537,3 +537,27 @@ def test_mesh_review_2026_12_07(tmp_path):
         write_obj(123, cube)
     top = 25000.0 * float(mass_properties(cube, density=1.0).volume) * (1 + 1e-12)   # the top, and a rounding over
     assert float(rigid_stone(cube, mass=top).mass) == pytest.approx(top, rel=1e-12)
+
+
+def test_read_obj_takes_latin1_comments_and_continued_lines(tmp_path):
+    """(2026-12-07, a review) one Latin-1 byte in a comment ('# Stein größe', as Windows exporters write) refused
+    the whole file as not UTF-8; a face continued on the next line with a backslash, as the OBJ format allows,
+    was refused as a bad face entry '\\\\'. Both read now, as the same box; a UTF-16 file is still refused."""
+    a, b, c = 0.04, 0.03, 0.01
+    v = [(0, 0, 0), (a, 0, 0), (a, b, 0), (0, b, 0), (0, 0, c), (a, 0, c), (a, b, c), (0, b, c)]
+    faces = ["1 4 3 2", "5 6 7 8", "1 2 6 5", "3 4 8 7", "1 5 8 4", "2 3 7 6"]
+    plain = "\n".join([f"v {x!r} {y!r} {z!r}" for x, y, z in v] + [f"f {f}" for f in faces]) + "\n"
+    ref = read_obj(_write(tmp_path / "plain.obj", plain.encode()))
+    latin = ("# Stein größe\n" + plain).encode("latin-1")
+    continued = plain.replace("f 1 2 6 5\n", "f 1 2 \\\n  6 5\n").replace("f 5 6 7 8\n", "f 5 6 7 8 # top \\\n")
+    for name, data in (("latin.obj", latin), ("continued.obj", continued.encode())):
+        mesh = read_obj(_write(tmp_path / name, data))
+        np.testing.assert_array_equal(mesh.vertices, ref.vertices)
+        np.testing.assert_array_equal(mesh.faces, ref.faces)
+    with pytest.raises(MeshError, match="cannot read OBJ file"):
+        read_obj(_write(tmp_path / "wide.obj", plain.encode("utf-16")))
+
+
+def _write(path, data: bytes):
+    path.write_bytes(data)
+    return path
