@@ -140,6 +140,10 @@ def recentre(grid: WaterGrid, water: WaterState, offset, position):
     (i, j) is centred at ``(offset + (i, j)) * spacing``). Returns the shifted
     :class:`WaterState` and the new offset.
     """
+    _check_grid(grid)
+    position = _checked_position(position)    # (a NaN position gave an offset of -4, -4 in silence)
+    if jnp.shape(offset) != (2,) or not jnp.issubdtype(jnp.result_type(offset), jnp.integer):
+        raise ParameterError(f"offset must be 2 integers (the window's column (0, 0) in world columns), got {offset!r}")
     nx, ny = grid.shape
     centre = jnp.round(position[:2] / grid.spacing).astype(jnp.int32)
     new = centre - jnp.array([nx // 2, ny // 2], jnp.int32)
@@ -165,7 +169,9 @@ def advance_field(grid: WaterGrid, water_step, f: "Field", position, spread: int
     the pressure would land a column or two away from the stone). Returns the new
     :class:`Field` with nothing pending.
     """
-    push = _spread(f.impulse / f.pending, spread)
+    # (nothing pending: no push, and water steps of no time; 0 / 0 was NaN in every column)
+    some = f.pending > 0.0
+    push = _spread(f.impulse / jnp.where(some, f.pending, 1.0), spread)
     h = jnp.minimum(f.pending, substeps * dt_max) / substeps
     if substeps == 1:
         field = water_step(f.water, push, h)
@@ -204,8 +210,12 @@ def coupled_interval(config: SimConfig, grid: WaterGrid, water_dt: float | None 
     _check_grid(grid)
     water_dt = default_water_dt(grid) if water_dt is None else check_range(
         "water_dt", water_dt, 0.0, grid.time_step, unit="s", low_open=True)
-    k = max(1, math.ceil(water_dt / config.dt - 0.5 - 1e-9))
-    return k * config.dt
+    return _interval_steps(config, water_dt) * config.dt
+
+
+def _interval_steps(config: SimConfig, water_dt: float) -> int:
+    """Stone steps of ``config.dt`` between two advances of the water in contact (:func:`coupled_interval`)."""
+    return max(1, math.ceil(water_dt / config.dt - 0.5 - 1e-9))
 
 
 def check_window_fits(grid: WaterGrid, stone: RigidStone, name: str = "grid") -> None:
@@ -260,11 +270,13 @@ def make_coupled_step(config: SimConfig, grid: WaterGrid, water_dt: float | None
     water_step = make_water_step(grid, clamp_blocks=tuple(
         tuple(min(n, max(8, math.ceil(side / grid.spacing))) for n in grid.shape) for side in CLAMP_BLOCKS))
     dt_max = grid.time_step
-    # Due once the stone's steps add up to ``water_dt`` within half a fine step: four 0.25 ms steps
-    # make 1 ms whatever the round-off of their sum. (A relative tolerance of 1e-9 did not: in float32
-    # the time differences carry round-off of ~1e-5 relative, and 90 of the default throw's ~240
-    # contact water steps waited for a fifth stone step, 1.25 ms.) Never due with nothing pending.
-    due_after = water_dt - 0.5 * min(config.dt, water_dt)
+    # Due once the stone's fine steps add up to the k of coupled_interval, tested halfway between k - 1 and k
+    # steps: four 0.25 ms steps make 1 ms whatever the round-off of their sum. (A relative tolerance of 1e-9
+    # did not: in float32 the time differences carry round-off of ~1e-5 relative, and 90 of the default throw's
+    # ~240 contact water steps waited for a fifth stone step, 1.25 ms. Nor did water_dt - dt/2, for a water_dt
+    # of k + 1/2 steps: at dt = 0.4 ms that is 0.8 ms, two steps exactly, and round-off made the interval 2 or
+    # 3 steps at random.) Never due with nothing pending.
+    due_after = (_interval_steps(config, water_dt) - 0.5) * config.dt
 
     def advance_water(f: Field, position):
         return advance_field(grid, water_step, f, position, spread, dt_max, substeps)
@@ -380,6 +392,8 @@ def _checked_position(position):
     if raw is None or raw.shape not in ((2,), (3,)) or raw.dtype.kind not in "iuf" or not np.all(np.isfinite(raw)):
         raise ParameterError(f"position must be {valid}, got {position!r}")
     if isinstance(position, (jax.Array, np.ndarray)) and raw.dtype.kind == "f":
+        if raw.dtype not in (np.float32, np.float64):   # (float16 was refused as 'dtype must be ...', a name not given)
+            raise ParameterError(f"position must be float32 or float64 (the field takes its type), got {raw.dtype}")
         return jnp.asarray(position)
     return jnp.asarray(raw, dtype=jnp.result_type(float))
 

@@ -282,10 +282,19 @@ def _check_grid(grid) -> WaterGrid:
 
 
 def water_substeps(grid: WaterGrid, dt: float) -> int:
-    """Water steps per stone step of ``dt`` [s] so each water step is within the bound."""
+    """Water steps per stone step of ``dt`` [s] so each water step is within the bound: an integer in
+    [1, 10^8] (a longer ``dt`` is refused, naming the most it may be: 1e300 s gave a 303-digit count)."""
     _check_grid(grid)
     check_positive("dt", dt, unit="s")
-    return max(1, math.ceil(dt / grid.time_step - 1e-12))
+    n = max(1, math.ceil(dt / grid.time_step - 1e-12))
+    if n > MAX_SUBSTEPS:
+        raise ParameterError(f"dt must be at most {MAX_SUBSTEPS * grid.time_step:.6g} s ({MAX_SUBSTEPS:.0e} water steps of "
+                             f"{grid.time_step:.6g} s), got {dt!r}")
+    return n
+
+
+#: Most water steps :func:`water_substeps` gives for one stone step.
+MAX_SUBSTEPS = 100_000_000
 
 
 @document_fields
@@ -559,8 +568,9 @@ def _sponge_keep(grid: WaterGrid, dt):
     divisions a step instead of one per column (or two per pipe) — the same numbers, bit for bit.
     """
     nx, ny = grid.shape
-    kx = 1.0 / (1.0 + dt * (grid.sponge_rate * _sponge_ramp(grid, nx) ** 2))
-    ky = 1.0 / (1.0 + dt * (grid.sponge_rate * _sponge_ramp(grid, ny) ** 2))
+    dtype = jnp.result_type(dt)   # (the state's: a float64 ramp turned a float32 state's flows float64 under x64)
+    kx = (1.0 / (1.0 + dt * (grid.sponge_rate * _sponge_ramp(grid, nx) ** 2))).astype(dtype)
+    ky = (1.0 / (1.0 + dt * (grid.sponge_rate * _sponge_ramp(grid, ny) ** 2))).astype(dtype)
     col = jnp.minimum(kx[:, None], ky[None, :])
     px, py = jnp.minimum(kx[:-1], kx[1:]), jnp.minimum(ky[:-1], ky[1:])
     diagonal = jnp.minimum(px[:, None], py[None, :])    # both diagonals join the same 2 x 2 columns
@@ -638,6 +648,8 @@ def make_water_step(grid: WaterGrid, clamp_blocks: tuple = ()):
             raise ParameterError("pressure must be real [Pa per column], got a complex array")
         if not isinstance(pressure, jax.core.Tracer) and not bool(np.all(np.isfinite(np.asarray(pressure)))):
             raise ParameterError("pressure must be finite in every column [Pa]")   # (NaN heights followed in silence)
+        if not isinstance(state.height, jax.core.Tracer):   # as run_water (-0.01 m everywhere: water made by the clamp)
+            _check_heights("state.height", state.height)
         # the state's float type throughout (a float64 pressure on a float32 state under x64 made float64
         # heights: a scan over the step met a raw carry-type error)
         pressure = jnp.asarray(pressure, dtype=state.height.dtype)
@@ -649,6 +661,7 @@ def make_water_step(grid: WaterGrid, clamp_blocks: tuple = ()):
                 raise ParameterError(f"dt must be a number in [0, {bound:.6g}] s (the pipe scheme's stability bound "
                                      f"for spacing {l} m and depth {H} m; split a longer step with "
                                      f"water_substeps()), got {dt!r}")
+        dt = jnp.asarray(dt, dtype=state.height.dtype)   # (the state's type: the sponge's factors follow it)
         keep = 1.0 / (1.0 + dt * grid.damping)    # implicit linear damping: unconditionally stable
         if grid.boundary == "sponge":
             # the sponge's implicit relaxation of the pipe flows, in the same update (module docstring)
@@ -752,7 +765,9 @@ def run_water(grid: WaterGrid, state: WaterState, steps: int, pressure=None):
         raise ParameterError(f"pressure must have the grid's shape {grid.shape} (Pa per column), got {p.shape}")
     if not isinstance(p, jax.core.Tracer) and not bool(np.all(np.isfinite(np.asarray(p)))):
         raise ParameterError("pressure must be finite in every column [Pa]")
-    # (asarray with the dtype makes it strongly typed: a weakly typed pressure would compile again)
+    # (asarray with the dtype makes it strongly typed: a weakly typed pressure would compile again; so would a
+    # weakly typed clock, time=0.0 in a state built by hand, and it stayed weak in every state returned)
+    state = dataclasses.replace(state, time=jnp.asarray(state.time, dtype=dtype))
     return _water_program(grid, steps)(state, p)
 
 
@@ -886,9 +901,11 @@ def deposit(grid: WaterGrid, x, y, value, origin=None, into=None):
     ox, oy = _origin_xy(grid, origin)
     fx = jnp.ravel((x - ox) / grid.spacing)
     fy = jnp.ravel((y - oy) / grid.spacing)
-    inside = (fx >= 0) & (fx <= nx - 1) & (fy >= 0) & (fy <= ny - 1)
-    fx = jnp.clip(fx, 0.0, nx - 1.0)
-    fy = jnp.clip(fy, 0.0, ny - 1.0)
+    inside = (fx >= 0) & (fx <= nx - 1) & (fy >= 0) & (fy <= ny - 1)    # (False for a NaN point)
+    # a point outside (or NaN) is dropped with its weights: a NaN point's NaN fractions times its zeroed value
+    # were NaN, added into the 2 x 2 columns it was clipped to
+    fx = jnp.where(inside, jnp.clip(fx, 0.0, nx - 1.0), 0.0)
+    fy = jnp.where(inside, jnp.clip(fy, 0.0, ny - 1.0), 0.0)
     i0 = jnp.clip(jnp.floor(fx).astype(jnp.int32), 0, nx - 2)
     j0 = jnp.clip(jnp.floor(fy).astype(jnp.int32), 0, ny - 2)
     tx, ty = fx - i0, fy - j0
@@ -897,6 +914,7 @@ def deposit(grid: WaterGrid, x, y, value, origin=None, into=None):
     w = jnp.stack([jnp.stack([(1 - tx) * (1 - ty) * v, (1 - tx) * ty * v], -1),
                    jnp.stack([tx * (1 - ty) * v, tx * ty * v], -1)], 1)
     out = jnp.zeros(grid.shape, jnp.result_type(value, float)) if into is None else into
+    w = w.astype(out.dtype)   # (into's type: float64 values into a float32 array met a raw dtype error)
 
     def add(p, a):
         corner = (i0[p], j0[p])

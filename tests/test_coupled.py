@@ -375,3 +375,32 @@ def test_an_animation_of_a_long_flight_gets_frames_along_the_arc(tmp_path):
     filled = _fill_long_gaps(d, d.field["frames"])[0]
     added = [f[0] for f in filled if not any(f is s for s in d.field["frames"])]
     assert added and all(d.contacts[0].t_end < t < d.contacts[1].t_start for t in added), (added, d.contacts[:2])
+
+
+def test_coupled_review_2026_12_07():
+    """(2026-12-07, a review of the water as a library) advance_field with nothing pending divided 0 by 0: NaN in
+    every column under jit; at dt = 0.4 ms (water_dt 1 ms: 2.5 steps) the due test sat exactly on two steps and
+    round-off made the water's interval 2 or 3 steps at random, where coupled_interval says 2; a float16 position
+    was refused as 'dtype must be ...'; recentre took a NaN position in silence."""
+    from jaxskip import initial_carry, paper_stone, rigid_stone, water_params
+    from jaxskip.coupled import coupled_interval, recentre
+
+    f = initial_field(SMALL, jnp.zeros(3))
+    out = jax.jit(lambda f: advance_field(SMALL, make_water_step(SMALL), f, jnp.zeros(3), 2, SMALL.time_step))(f)
+    np.testing.assert_array_equal(np.asarray(out.water.height), np.asarray(f.water.height))
+    stone, water = rigid_stone(paper_stone(), density=2650.0), water_params()
+    for dt in (4e-4, 2e-3 / 3):
+        cfg = SimConfig(dt=dt, flight="step", record=False, max_steps=200)
+        state, tr = initial_carry(cfg, Throw.from_degrees(speed=1.0, height=50.0), stone)   # in the air: dt steps
+        step = jax.jit(make_coupled_step(cfg, SMALL))
+        carry, gaps, last = (state, tr, initial_field(SMALL, state.position)), [], 0
+        for i in range(1, 30):
+            carry, _ = step(carry, stone, water)
+            if float(carry[2].pending) == 0.0:
+                gaps.append(i - last)
+                last = i
+        assert set(gaps) == {round(coupled_interval(cfg, SMALL) / dt)}, (dt, gaps)
+    with pytest.raises(ParameterError, match=r"position must be float32 or float64 .* got float16"):
+        initial_field(SMALL, np.zeros(3, np.float16))
+    with pytest.raises(ParameterError, match=r"position must be 2 or 3 finite real numbers"):
+        recentre(SMALL, still_water(SMALL), jnp.zeros(2, jnp.int32), jnp.array([jnp.nan, 0.0, 0.0]))

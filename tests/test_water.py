@@ -562,3 +562,40 @@ def test_a_grid_origin_may_be_a_list():
     """(2026-12-06, a review) origin=[0.1, 0.2] was refused ("must be a tuple"); it is stored as a tuple."""
     g = WaterGrid(shape=(8, 8), origin=[0.1, 0.2])
     assert g.origin == (0.1, 0.2) and hash(g) == hash(WaterGrid(shape=(8, 8), origin=(0.1, 0.2)))
+
+
+def test_water_review_2026_12_07(monkeypatch):
+    """(2026-12-07, a review of the water as a library) a float32 state on a sponge grid met a raw cond/scan type
+    error under x64 (the sponge's factors were float64); deposit added a NaN point's NaN weights into the columns
+    of a good one beside it, and into a float32 array it met a raw dtype error; the pure step ran on concrete
+    negative or NaN heights that run_water refuses (the clamp made water); a state with a weakly typed clock
+    compiled run_water again; water_substeps(grid, 1e300) gave a 303-digit count."""
+    from jaxskip.water import deposit, total_volume, water_substeps
+
+    sponge = WaterGrid(shape=(12, 12), spacing=0.01, depth=0.02, boundary="sponge", sponge_width=3)
+    for clamp in ("reference", "smooth", "zero"):
+        g = dataclasses.replace(sponge, clamp=clamp)
+        s = still_water(g, dtype=jnp.float32)
+        bump = s.height.at[5, 5].add(jnp.float32(0.005))
+        out = run_water(g, dataclasses.replace(s, height=bump), 20)
+        assert all(a.dtype == jnp.float32 for a in (out.height, out.qx, out.qd, out.time)), clamp
+        assert float(total_volume(g, out)) > 0
+    small = WaterGrid(shape=(5, 4), spacing=0.1, depth=1.0)
+    d = deposit(small, jnp.array([jnp.nan, 0.1]), jnp.array([0.1, 0.1]), jnp.array([1.0, 1.0]))
+    assert not bool(jnp.any(jnp.isnan(d))) and float(d.sum()) == pytest.approx(1.0, abs=1e-12)
+    into = deposit(small, jnp.array([0.1]), jnp.array([0.1]), jnp.array([1.0]), into=jnp.zeros((5, 4), jnp.float32))
+    assert into.dtype == jnp.float32 and float(into.sum()) == pytest.approx(1.0)
+    g = WaterGrid(shape=(8, 8), spacing=0.01, depth=0.02)
+    step = make_water_step(g)
+    for bad in (-0.01, float("nan")):
+        with pytest.raises(ParameterError, match=r"state.height must be finite and >= 0 m"):
+            step(dataclasses.replace(still_water(g), height=jnp.full((8, 8), bad)), jnp.zeros((8, 8)))
+    import jaxskip.water as water_module
+
+    run_water(g, still_water(g), 3)
+    runner = water_module._water_program(g, 3)
+    before = runner._cache_size()
+    weak = run_water(g, dataclasses.replace(still_water(g), time=0.0), 3)
+    assert runner._cache_size() == before and not weak.time.weak_type, (runner._cache_size(), before)
+    with pytest.raises(ParameterError, match=r"dt must be at most .* s \(1e\+08 water steps"):
+        water_substeps(g, 1e300)
