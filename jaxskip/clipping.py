@@ -204,6 +204,65 @@ def immersed_moment_from_heights(p, zeta, sharpness=None):
     return (d_hi - d_lo) * sharpness, (m_hi - m_lo) * sharpness
 
 
+def wet_pieces(zeta):
+    r"""The part of a triangle with :math:`\zeta < 0` as two triangles in barycentric coordinates.
+
+    ``zeta`` (3,): vertex heights above the cutting level [m]. Returns ``(B1, B2)``, each (3, 3): row
+    :math:`r` of :math:`B` holds the barycentric weights of the piece's vertex :math:`r` on the triangle's
+    vertices, so the piece is ``B @ p`` and a linear function with vertex values :math:`f` takes the values
+    ``B @ f`` at its corners, and its area is :math:`|\det B|` of the triangle's. The whole triangle is
+    :math:`B_1 = I`; a corner at the lone vertex :math:`k` under water is
+    :math:`(e_k,\ e_k + t_i(e_i - e_k),\ e_k + t_j(e_j - e_k))`; the triangle less the corner at the lone
+    vertex above is the quadrilateral :math:`e_i, e_j, c_j, c_i` cut into two (:math:`c` those corner
+    points); an unused piece is zero (no area). Edge fractions as in :func:`clip_weights`, guarded.
+    """
+    under = zeta < 0.0
+    n_under = jnp.sum(under.astype(jnp.int32))
+    corner_under = n_under == 1
+    corner_above = n_under == 2
+    lone = jnp.where(corner_under, under, corner_above & ~under)
+    active = corner_under | corner_above
+    z_k = jnp.sum(jnp.where(lone, zeta, 0.0))
+    other = active & ~lone
+    t = jnp.where(other, _quotient(z_k, jnp.where(other, z_k - zeta, 1.0)), 0.0)
+    e = lone.astype(zeta.dtype)
+    e_i, e_j = jnp.roll(e, 1), jnp.roll(e, 2)          # the two other vertices, in the triangle's order
+    t_i, t_j = jnp.sum(t * e_i), jnp.sum(t * e_j)
+    c_i, c_j = e + t_i * (e_i - e), e + t_j * (e_j - e)
+    zero = jnp.zeros((3, 3), zeta.dtype)
+    corner = jnp.stack([e, c_i, c_j])
+    b1 = jnp.where(corner_under, corner, jnp.where(corner_above, jnp.stack([e_i, e_j, c_j]),
+                                                   jnp.where(n_under == 3, jnp.eye(3, dtype=zeta.dtype), zero)))
+    b2 = jnp.where(corner_above, jnp.stack([e_i, c_j, c_i]), zero)
+    return b1, b2
+
+
+def gated_moment_from_heights(p, zeta, gate):
+    r"""Area fraction and first moment of the part of one triangle with :math:`\zeta < 0` and :math:`g > 0`.
+
+    ``p`` (3, 3) vertices [m] in any frame, ``zeta`` (3,) their heights above the water [m] (negative:
+    under), ``gate`` (3,) the values at the vertices of a second function :math:`g` linear over the
+    triangle (a velocity's normal part, say). Returns ``fraction`` () (that part's area / the triangle's)
+    and ``moment`` (3,) :math:`\frac1A\int p\,dA` over it [m], as
+    :func:`immersed_moment_from_heights` (exact clipping) does for :math:`\zeta < 0` alone: the wet part
+    (:func:`wet_pieces`) cut again by :math:`g = 0` with :func:`clip_integrals`. The answer depends on the
+    region only, not on how a surface is cut into triangles.
+
+    >>> import jax.numpy as jnp
+    >>> tri = jnp.array([[0., 0., -1.], [1., 0., -1.], [0., 1., -1.]])      # all under water
+    >>> f, m = gated_moment_from_heights(tri, tri[:, 2], jnp.array([-1., 1., -1.]))   # g > 0 near vertex 1
+    >>> round(float(f), 6)    # the corner at vertex 1, cut halfway along both its edges: 1/4
+    0.25
+    """
+    fraction, moment = 0.0, 0.0
+    for b in wet_pieces(zeta):
+        piece, g = b @ p, b @ gate
+        share = jnp.abs(jnp.dot(b[0], jnp.cross(b[1], b[2])))   # the piece's area / the triangle's
+        f, m, _, _ = clip_integrals(piece, -g)
+        fraction, moment = fraction + share * f, moment + share * m
+    return fraction, moment
+
+
 def immersed_moments_from_heights(p, zeta, sharpness=None):
     """:func:`immersed_moment_from_heights` over a mesh: ``p`` (F, 3, 3), ``zeta`` (F, 3) -> (F,), (F, 3)."""
     return jax.vmap(lambda pi, zi: immersed_moment_from_heights(pi, zi, sharpness))(p, zeta)

@@ -43,17 +43,23 @@ Either way the force jumps when a wet face turns through :math:`n_i\cdot V = 0`
 they make a free stone's trajectory piecewise smooth on a fine scale.
 
 ``velocity="passive"`` (Bocquet's law only) — the dynamic pressure from the centre of mass's
-velocity :math:`V = v`, the lift's loading from each face's own :math:`w_i = v + \omega\times(G_i - x)`,
-the friction acting at the centre of mass
+velocity :math:`V = v`, the lift's loading from each point's own velocity :math:`w(r) = v + \omega\times(r - x)`,
+the friction acting at the centre of mass: on the part :math:`S_i^+` of wet face :math:`i` that moves into the
+water, :math:`n_i\cdot w(r) > 0` (linear over the face: the wet part cut once more, exactly,
+:func:`jaxskip.clipping.gated_moment_from_heights`),
     .. math::
-        F_{L,i} = -\tfrac12 C_l\rho_w |V|^2 S_i\,\operatorname{sgn}(n_i\cdot w_i)\,n_i
-        \ \text{at}\ G_i, \qquad
-        F_{f,i} = -\tfrac12 C_f\rho_w |V|\,|V_t| S_i\,\hat t_i\ \text{at}\ x,
-        \qquad \hat t_i = V_t/|V_t|,
+        F_{L,i} = -\tfrac12 C_l\rho_w |V|^2 S_i^+\,n_i
+        \ \text{at}\ G_i^+, \qquad
+        F_{f,i} = -\tfrac12 C_f\rho_w |V|\,|V_t| S_i^+\,\hat t_i\ \text{at}\ x,
+        \qquad \hat t_i = V_t/|V_t|
 
-    on faces with :math:`n_i\cdot w_i > 0` (``faces="leading"``). The water's power on the
-    stone, :math:`\sum_i F_{L,i}\cdot w_i + F_{f,i}\cdot v = -\sum_i \tfrac12\rho_w S_i |V|\,[C_l |V|\,
-    |n_i\cdot w_i| + C_f |V_t|^2] \le 0`, is never positive, so the water cannot pump a wobble
+    (``faces="leading"``; with ``"all"`` the rest of the wet face is pushed the other way and the friction
+    acts on all of it). Until 2026-12-07 a face was loaded whole by the sign of :math:`n_i\cdot w` at its wet
+    centroid, which made the answer depend on how the mesh was cut into triangles (a spinning rim's quads)
+    and throws spun one way and the other no mirror images; with smooth clipping (``sharpness``) it still is.
+    The water's power on the
+    stone, :math:`\sum_i \int F_{L,i}/S_i^+\cdot w\,dA + F_{f,i}\cdot v = -\sum_i \tfrac12\rho_w |V|\,[C_l |V|
+    \int_{S_i^+} n_i\cdot w\,dA + C_f |V_t|^2 S_i^+] \le 0`, is never positive, so the water cannot pump a wobble
     (``"body"`` can: docs/model.md, "The default free stone gains energy"). Without rotation
     (:math:`w_i = V`, the tilt held included) it is ``"body"``'s law in force exactly (the torque
     lacks the friction's moment, which a held tilt ignores). The spin's in-plane speed does not
@@ -345,6 +351,10 @@ def body_triangle_forces(model: ForceModel, params: WaterParams, stone, position
     Returns ``forces`` (F, 3) [N] and immersed ``centroids`` (F, 3) [m] relative to the
     centre of mass, both in body axes, and immersed ``areas`` (F,) [m^2].
     """
+    if model.velocity == "passive":   # (the lift on the part of each wet triangle that moves into the water)
+        lift, _, friction, centroid, area = _passive_triangles(model, params, stone, position, R, velocity, omega,
+                                                               surface)
+        return lift + friction, centroid, area
     centroid, area, v_body, own = _wetted(model, stone, position, R, velocity, omega, surface)
     vel = own if model.velocity == "local" else jnp.broadcast_to(v_body[None, :], centroid.shape)
     forces = jax.vmap(lambda n, s, v, w: triangle_force(model, params, n, s, v, w))(stone.normals, area, vel, own)
@@ -399,10 +409,53 @@ def body_water_load(model: ForceModel, params: WaterParams, stone, position, R, 
 def _passive_load(model: ForceModel, params: WaterParams, stone, position, R, velocity, omega, surface):
     """:func:`body_water_load` for ``velocity="passive"``: the lift's moment about the centre of mass only
     (the friction acts there). Returns force (3,) [N], torque (3,) [N m] (world frame), wetted area () [m^2]."""
-    centroid, area, v_body, own = _wetted(model, stone, position, R, velocity, omega, surface)
-    lift, friction = jax.vmap(lambda n, s, w: _passive_parts(model, params, n, s, v_body, w))(stone.normals, area, own)
-    torque = face_sum(jnp.cross(centroid, lift))
-    return quaternion.rotate(R, face_sum(lift + friction)), quaternion.rotate(R, torque), face_sum(area)
+    lift, moment, friction, _, area = _passive_triangles(model, params, stone, position, R, velocity, omega, surface)
+    return (quaternion.rotate(R, face_sum(lift + friction)), quaternion.rotate(R, face_sum(moment)),
+            face_sum(area))
+
+
+def _passive_triangles(model: ForceModel, params: WaterParams, stone, position, R, velocity, omega, surface):
+    r"""``velocity="passive"``, per triangle in body axes: the lift (F, 3) [N], its moment about the centre of
+    mass (F, 3) [N m], the friction (F, 3) [N] (acting at the centre of mass), the wet centroid (F, 3) [m] and
+    the wet area (F,) [m^2].
+
+    With exact clipping each wet triangle is loaded where its own points move into the water,
+    :math:`g(r) = n\cdot(V + \Omega\times r) > 0` — linear over the triangle, so the loaded part is the wet
+    part cut by :math:`g = 0` (:func:`jaxskip.clipping.gated_moment_from_heights`) — not as a whole by the
+    sign of :math:`g` at its wet centroid, which made the answer depend on how the mesh was cut into
+    triangles (the Clanet disk's rim quads cut along their other diagonals: 2.80 against 2.55 m) and spins
+    of +65 and -65 rev/s no mirror images (2026-12-07). With ``faces="all"`` the rest of the wet part is
+    loaded the other way. The water's power :math:`-\tfrac12\rho_w|V|\int [C_l|V|\,|g| + C_f|V_t|^2]\,dA`
+    stays :math:`\le 0`. With smooth clipping (``sharpness``) a triangle is still gated as a whole at its
+    wet centroid.
+    """
+    zeta = vertex_heights(stone, position, R, surface)
+    V = quaternion.rotate_inverse(R, velocity)
+    spin = quaternion.rotate_inverse(R, omega)
+    frac, wet_moment = clipping.immersed_moments_from_heights(stone.triangles, zeta, model.sharpness)
+    wet = frac > 1e-14
+    centroid = jnp.where(wet[:, None], wet_moment / jnp.where(wet, frac, 1.0)[:, None],
+                         jnp.mean(stone.triangles, axis=1))
+    if model.sharpness is None:
+        own = V[None, None, :] + jnp.cross(spin[None, None, :], stone.triangles)       # (F, 3, 3) at the vertices
+        gate = jnp.sum(stone.normals[:, None, :] * own, axis=-1)
+        into, into_moment = jax.vmap(clipping.gated_moment_from_heights)(stone.triangles, zeta, gate)
+    else:
+        n_w = jnp.sum(stone.normals * (V[None, :] + jnp.cross(spin[None, :], centroid)), axis=-1)
+        into = jnp.where(n_w > 0.0, frac, 0.0)
+        into_moment = jnp.where(n_w[:, None] > 0.0, wet_moment, 0.0)
+    if model.faces == "leading":
+        lift_area, lift_moment, friction_area = into, into_moment, into
+    else:   # the rest of the wet part is pushed the other way
+        lift_area, lift_moment, friction_area = 2.0 * into - frac, 2.0 * into_moment - wet_moment, frac
+    half = 0.5 * params.rho_water * stone.areas                                # (F,)
+    lift_unit = -params.c_lift * jnp.sum(V * V) * stone.normals                 # (F, 3) per unit of half-area
+    v_t = V[None, :] - jnp.sum(stone.normals * V[None, :], axis=-1, keepdims=True) * stone.normals
+    friction_unit = -params.c_friction * _safe_norm(V) * v_t
+    lift = (half * lift_area)[:, None] * lift_unit
+    moment = jnp.cross((half[:, None] * lift_moment), lift_unit)
+    friction = (half * friction_area)[:, None] * friction_unit
+    return lift, moment, friction, centroid, frac * stone.areas
 
 
 def body_total_force(forces, centroid, area, R):

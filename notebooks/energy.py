@@ -16,8 +16,8 @@
 # * `"body"` (the default): every face sees the centre of mass's velocity, so the lift's torque does
 #   not feel how fast each side of the stone moves into the water, and it can pump a wobble;
 # * `"local"`: each face's own v + ω × r (the spin's in-plane speed then lifts the stone);
-# * `"passive"`: the pressure from the centre of mass's speed, the lift's side from each face's own
-#   velocity, the friction at the centre of mass — the water's power is never positive;
+# * `"passive"`: the pressure from the centre of mass's speed, the lift on the part of each wet face whose
+#   own velocity moves into the water, the friction at the centre of mass — the water's power is never positive;
 # * the tilt held (`attitude="fixed"`, the high-spin limit): no rotation to pump.
 #
 # Run: `python notebooks/energy.py` (quick mode, `JAXSKIP_QUICK=1`, is the same run: four throws).

@@ -183,3 +183,41 @@ def test_body_frame_force_equals_the_world_frame_sum(paper, water, law, velocity
             for e, g in zip(expected, got):
                 np.testing.assert_allclose(np.asarray(g), np.asarray(e), rtol=1e-10, atol=1e-12 * (1 + float(jnp.max(jnp.abs(e)))))
     assert sum(0.0 < f < 0.9 for f in wet) >= 6, wet   # partly immersed poses: every clip case occurs
+
+
+def test_gated_moment_is_the_wet_part_cut_again():
+    """gated_moment_from_heights (the passive law's loaded part of a wet triangle, 2026-12-07): the area and first
+    moment of {zeta < 0} and {g > 0} against a polygon clip of the triangle by both lines, over random triangles;
+    the wet part when g > 0 all over, nothing when g < 0; the same region found with the two cuts swapped (another
+    decomposition: agreement to rounding); gradients finite and equal to central differences."""
+    from _polygons import area_and_moment, clip_polygon
+
+    from jaxskip.clipping import gated_moment_from_heights, immersed_moment_from_heights
+
+    rng = np.random.default_rng(11)
+    for _ in range(300):
+        p = rng.normal(size=(3, 3))
+        zeta, g = rng.normal(size=3), rng.normal(size=3)
+        f, m = (np.asarray(a) for a in gated_moment_from_heights(jnp.asarray(p), jnp.asarray(zeta), jnp.asarray(g)))
+        # the two linear functions carried as extra coordinates of the vertices: clipping keeps them linear
+        tri_area = 0.5 * np.linalg.norm(np.cross(p[1] - p[0], p[2] - p[0]))
+        pts = [np.concatenate([p[k], [zeta[k], g[k]]]) for k in range(3)]
+        piece = clip_polygon(clip_polygon(pts, lambda x: x[3]), lambda x: -x[4])
+        area, moment = area_and_moment(piece)
+        assert abs(f * tri_area - area) <= 1e-12 * (1 + tri_area), (f * tri_area, area)
+        np.testing.assert_allclose(m * tri_area, moment, atol=1e-12)
+        f2, m2 = gated_moment_from_heights(jnp.asarray(p), jnp.asarray(-g), jnp.asarray(-zeta))
+        assert abs(float(f2) - f) <= 1e-14 and np.abs(np.asarray(m2) - m).max() <= 1e-14
+    p, zeta = jnp.asarray(rng.normal(size=(3, 3))), jnp.array([-0.3, 0.2, -0.1])
+    wet = immersed_moment_from_heights(p, zeta)
+    for got, want in zip(gated_moment_from_heights(p, zeta, jnp.array([1.0, 2.0, 0.5])), wet):
+        np.testing.assert_allclose(np.asarray(got), np.asarray(want), atol=1e-15)
+    for got in gated_moment_from_heights(p, zeta, jnp.array([-1.0, -2.0, -0.5])):
+        np.testing.assert_array_equal(np.asarray(got), 0.0)
+    x = jnp.array([-0.3, 0.2, -0.1, 0.4, -0.2, 0.15])   # (g = 0.1 puts the cut through a wet corner: a kink)
+    func = lambda x: gated_moment_from_heights(p, x[:3], x[3:])[0] + jnp.sum(gated_moment_from_heights(p, x[:3], x[3:])[1])
+    grad = np.asarray(jax.grad(func)(x))
+    h = 1e-6
+    fd = np.array([(func(x.at[i].add(h)) - func(x.at[i].add(-h))) / (2 * h) for i in range(6)])
+    assert np.all(np.isfinite(grad)) and np.abs(grad).max() > 0
+    np.testing.assert_allclose(grad, fd, rtol=1e-6, atol=1e-8)
