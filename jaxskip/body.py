@@ -270,8 +270,19 @@ def rigid_stone(mesh: TriMesh, *, density: float | None = None, mass: float | No
     span = float(np.max(np.ptp(np.asarray(mesh.vertices, dtype=np.float64), axis=0)))
     if not (1e-3 * RADIUS_RANGE[0] <= span and 0.5 * span <= 1e3 * RADIUS_RANGE[1]):
         raise ParameterError(_size_message(mesh.name, f"about {0.5 * span:.3g} to {span:.3g}"))
+    # the exact size before the mass: an out-of-range stone was first sent to a mass range that then failed on
+    # its size (a 0.05 mm mesh: "--mass must be in [4.56e-12, 1.13e-09] kg", then "its size ... must be in [1 mm,
+    # 1 m]"; a review). The bounding radius about the centre of mass, which no density moves.
+    unit = mass_properties(mesh, density=1.0)
+    radius = float(np.max(np.linalg.norm(np.asarray(mesh.vertices, dtype=np.float64)
+                                         - np.asarray(unit.center_of_mass), axis=1)))
+    if not RADIUS_RANGE[0] <= radius <= RADIUS_RANGE[1]:
+        shown = f"{radius:.4g}"
+        if RADIUS_RANGE[0] <= float(shown) <= RADIUS_RANGE[1]:  # ("got 1 m" for 1.0000125 m read as a contradiction)
+            shown = f"{radius:.12g}"
+        raise ParameterError(_size_message(mesh.name, shown))
     if mass is not None:
-        volume = float(mass_properties(mesh, density=1.0).volume)
+        volume = float(unit.volume)
         # (with DENSITY_SLACK: a mass at the range's top, 0.15 kg for 6 cm^3, gave 25000.000000000004 kg/m^3 by
         # rounding and was refused, printing [.., 0.15] kg, while density=25000 gave the same stone)
         if not lo * (1 - DENSITY_SLACK) <= float(mass) / volume <= hi * (1 + DENSITY_SLACK):
@@ -292,11 +303,6 @@ def rigid_stone(mesh: TriMesh, *, density: float | None = None, mass: float | No
     axes = principal_axes(np.asarray(props.inertia, dtype=np.float64))   # (body_frame's, for any density)
     v = (np.asarray(mesh.vertices, dtype=np.float64) - np.asarray(props.center_of_mass)) @ axes
     radius = float(np.max(np.linalg.norm(v, axis=1)))
-    if not RADIUS_RANGE[0] <= radius <= RADIUS_RANGE[1]:
-        shown = f"{radius:.4g}"
-        if RADIUS_RANGE[0] <= float(shown) <= RADIUS_RANGE[1]:  # ("got 1 m" for 1.0000125 m read as a contradiction)
-            shown = f"{radius:.12g}"
-        raise ParameterError(_size_message(mesh.name, shown))
     tri = v[np.asarray(mesh.faces)]
     cross = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
     area2 = np.linalg.norm(cross, axis=1)

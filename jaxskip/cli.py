@@ -267,12 +267,21 @@ def _degrees(angle: float) -> str:
     return str(round(math.degrees(angle))) if math.isfinite(angle) else "?"
 
 
+def _law_words(result) -> str:
+    """The force law's settings that change the answer: the velocity option and the coefficients (a --velocity
+    local run, 4 bounces against 15, read like a default one; a review)."""
+    w = result.water
+    return (f"velocity {result.config.force.velocity}, C_l {float(w.c_lift):g}, C_f {float(w.c_friction):g}"
+            + (f", faces {result.config.force.faces}" if result.config.force.faces != "leading" else ""))
+
+
 def _summary(result) -> str:
     lines = [
         f"{plural(result.bounces, 'bounce')} over {result.distance:.2f} m; outcome: {result.outcome.replace('_', ' ')} "
         f"after {result.final_time:.2f} s ({result.steps} steps, {result.wall_time:.2f} s wall)",
-        f"stone {result.stone_name} ({result.mass * 1e3:.1f} g), force law {result.config.force.law}, "
-        f"attitude {result.config.attitude}, integrator {result.config.integrator}, dt {result.config.dt:g} s",
+        f"stone {result.stone_name} ({result.mass * 1e3:.1f} g), force law {result.config.force.law} "
+        f"({_law_words(result)}), attitude {result.config.attitude}, integrator {result.config.integrator}, "
+        f"dt {result.config.dt:g} s",
     ]
     if result.contacts:
         lines.append("  #   start [s]  length [ms]   downrange [m]   tilt in -> out [deg]   tilt direction in -> out [deg]")
@@ -320,6 +329,10 @@ def _energy_lines(result) -> list:
     if None in e.values():  # (a diverged run: its error says so)
         return []
     lines = [f"mechanical energy of the stone: {e['release']:.3g} J at release, {e['end']:.3g} J at the end"]
+    if result.config.attitude == "fixed":   # (its spin sets no motion: 171 J 'at release' at --spin -300 read as real)
+        spin = float(result.energy()["rotation"][0])
+        lines.append(f"  (with --attitude fixed the stone does not turn: --spin sets no motion, and its "
+                     f"{spin:.3g} J of spin energy is carried unchanged in these figures)")
     if e["peak"] > e["release"] * (1 + ENERGY_RISE) + ENERGY_RISE:
         lines[0] += (f"; peak {e['peak']:.3g} J at {e['peak_time']:.2f} s "
                      f"(+{_percent(100 * (e['peak'] / e['release'] - 1))} %)")
@@ -382,6 +395,11 @@ def _throw(args) -> int:
                                height=args.height, heading=args.heading)
     values = sim_values(args)
     config, water, stone = simulation(**values)
+    if config.attitude == "fixed" and config.force.velocity != "body":
+        # (a review: --velocity local and passive ran the body law's throw to the bit, recorded as asked)
+        warnings.warn(f"--velocity {config.force.velocity} has no effect with --attitude fixed: with the tilt held "
+                      "no face turns, so every face moves at the centre of mass's velocity (the body law's throw)",
+                      UserWarning, stacklevel=2)
     progress = show_progress(args)  # on stderr: stdout keeps its one JSON object
     field = None
     if args.water == "field":

@@ -102,6 +102,12 @@ def plot_throw(result, path=None, *, ax=None):
              f"{float(th.speed):.1f} m/s, tilt {math.degrees(float(th.tilt)):.1f}°, "
              f"attack {math.degrees(float(th.attack)):.1f}°, spin {float(th.spin) / (2 * math.pi):.1f} rev/s")
     outcome = f"{plural(result.bounces, 'bounce')}, {result.distance:.1f} m, {result.outcome.replace('_', ' ')}"
+    # settings off the defaults, which change the answer: a held tilt read as a free throw (a review)
+    force = result.config.force
+    other = [w for w, on in (("tilt held", result.config.attitude == "fixed"), (f"{force.law} law", force.law != "bocquet"),
+                             (f"velocity {force.velocity}", force.velocity != "body")) if on]
+    if other:
+        outcome += f" ({', '.join(other)})"
     wide = side.bbox.width / side.figure.dpi >= 6.0       # inches of axis
     side.set_title(f"{throw}  →  {outcome}" if wide else f"{throw}\n→  {outcome}", fontsize=10 if wide else 9)
     side.legend(loc="lower left", ncol=3, fontsize=8, frameon=False)   # one row under the water line, below the numbers

@@ -28,6 +28,7 @@ def simulation(*, stone, mass, density, force_law, c_lift, c_friction, velocity,
     """
     from . import ForceModel, SimConfig, water_params
     from .api import resolve_stone
+    from .mesh import MeshError
     from ._checks import check_range
     from .simulate import MAX_DT, MAX_STEPS, check_duration, steps_for
 
@@ -43,7 +44,12 @@ def simulation(*, stone, mass, density, force_law, c_lift, c_friction, velocity,
     config = SimConfig(dt=dt, duration=duration, max_steps=max_steps, integrator=integrator, attitude=attitude,
                        force=ForceModel(law=force_law, velocity=velocity))
     water = water_params(force_law, c_lift=c_lift, c_friction=c_friction)
-    rigid, _ = resolve_stone(stone, mass=mass, density=density)
+    try:
+        rigid, _ = resolve_stone(stone, mass=mass, density=density)
+    except MeshError as exc:   # a faulty .obj named by its line only ('bad.obj, line 1: ...'): say which stone
+        if isinstance(stone, (str, os.PathLike)) and os.fspath(stone) not in str(exc):
+            raise MeshError(f"stone {os.fspath(stone)!r}: {exc}") from None
+        raise
     return config, water, rigid
 
 

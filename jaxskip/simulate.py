@@ -116,7 +116,9 @@ class SimConfig:
     unconverged: :func:`jaxskip.simulate` and :func:`jaxskip.simulate_batch` then warn
     (:class:`AccuracyWarning`)."""
     duration: float = 5.0
-    """Simulated time limit [s], >= dt."""
+    """Simulated time limit [s], >= dt. A flight jump stops at it; a contact step of ``dt`` that begins before it
+    is taken whole, so a run ended by ``time_limit`` may stop up to one ``dt`` past it (0.3013 s at ``duration``
+    0.3 s and ``dt`` 2 ms)."""
     max_steps: int = 20250
     """Scan length: steps available for contacts and flights (outcome ``step_limit`` if too few).
     The default is :func:`steps_for` of the default ``duration`` and ``dt``: a stone may stay in the

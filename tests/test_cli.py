@@ -605,3 +605,32 @@ def test_a_refused_trajectory_leaves_no_picture_behind(tmp_path, capsys):
                  "--plot", str(tmp_path / "p.png")]) == 2
     assert "holds the stone of another throw" in capsys.readouterr().err
     assert not (tmp_path / "p.png").exists() and not (tmp_path / "t.json").exists()
+
+
+def test_inert_and_off_default_settings_are_said(tmp_path, capsys):
+    """(2026-12-07, a review) with --attitude fixed, --velocity local and passive ran the body law's throw to the
+    bit and --spin set no motion, in silence (the energy read 171 J 'at release' at --spin -300); the summary
+    and the picture did not say which velocity option, coefficients or attitude a throw ran with."""
+    import matplotlib.pyplot as plt
+
+    from jaxskip import SimConfig, simulate
+    from jaxskip.plotting import plot_throw
+
+    assert main(["throw", "--attitude", "fixed", "--velocity", "local", "--duration", "0.05", "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert any("--velocity local has no effect with --attitude fixed" in w["message"] for w in out["warnings"])
+    assert main(["throw", "--attitude", "fixed", "--duration", "0.05"]) == 0
+    text = capsys.readouterr().out
+    assert "with --attitude fixed the stone does not turn: --spin sets no motion, and its" in text
+    assert "force law bocquet (velocity body, C_l 1, C_f 0.3), attitude fixed" in text
+    fig = plot_throw(simulate(config=SimConfig(attitude="fixed", duration=0.05)))
+    assert "(tilt held)" in fig.axes[0].get_title()
+    plt.close(fig)
+
+
+def test_a_faulty_obj_stone_is_named_by_its_flag_and_path(tmp_path, capsys):
+    """(2026-12-07, a review) a malformed .obj read 'bad.obj, line 1: ...': neither the flag nor the path."""
+    bad = tmp_path / "bad.obj"
+    bad.write_text("hello\n")
+    assert main(["throw", "--stone", str(bad)]) == 2
+    assert f"--stone {str(bad)!r}: bad.obj, line 1: unsupported statement" in capsys.readouterr().err

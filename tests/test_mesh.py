@@ -561,3 +561,14 @@ def test_read_obj_takes_latin1_comments_and_continued_lines(tmp_path):
 def _write(path, data: bytes):
     path.write_bytes(data)
     return path
+
+
+def test_a_stone_out_of_size_is_named_by_its_size_before_its_mass():
+    """(2026-12-07, a review) a 0.05 mm stone given a mass was sent to a mass range ('mass must be in [4.56e-12,
+    1.13e-09] kg') that then failed on its size; the size is checked first now."""
+    from jaxskip import ParameterError, paper_stone, rigid_stone
+
+    tiny = paper_stone().scaled(1e-3)
+    for kw in ({"mass": 0.1}, {"mass": 1e-10}, {"density": 2650.0}):
+        with pytest.raises(ParameterError, match=r"size \(bounding radius\) must be in \[1 mm, 1 m\]"):
+            rigid_stone(tiny, **kw)
