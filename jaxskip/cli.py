@@ -23,7 +23,7 @@ from ._files import STDOUT, writing
 from ._text import plural
 from ._progress import LOG_INTERVAL
 from .body import DENSITY_RANGE
-from .forces import COEFFICIENT_MAX, VELOCITIES
+from .forces import COEFFICIENT_MAX, DEFAULT_COEFFICIENTS, VELOCITIES
 from .simulate import DIVERGED_SPEED, MAX_DT, MAX_STEPS, DivergedWarning, SimConfig
 from .throw import MAX_HEADING, MAX_HEIGHT, MAX_SPEED, MAX_SPIN_REVS
 from .settings import SIM_DEFAULTS, describe, environment, simulation  # noqa: F401 (shared with cli_search)
@@ -109,8 +109,9 @@ def add_common(p, *, stone="paper", attitude="free", plot="write a picture (PNG/
                    help=f"stone density [kg/m^3], in {density} (default: the stone's own)")
     p.add_argument("--force-law", choices=("bocquet", "seed"), help="water force law (default bocquet)")
     for name in ("lift", "friction"):
+        laws = ", ".join(f"{DEFAULT_COEFFICIENTS[law]['c_' + name]:g} for {law}" for law in ("bocquet", "seed"))
         p.add_argument(f"--c-{name}", type=_float,
-                       help=f"{name} coefficient [-], in [0, {COEFFICIENT_MAX:g}] (default: the law's)")
+                       help=f"{name} coefficient [-], in [0, {COEFFICIENT_MAX:g}] (default: the law's, {laws})")
     p.add_argument("--velocity", choices=VELOCITIES,
                    help="velocity the water sees: centre of mass (body, default), each triangle's v + w x r "
                         "(local), or the centre of mass's for the pressure and friction and each triangle's for the "

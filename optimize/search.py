@@ -1030,7 +1030,8 @@ def _histogram_figure(result: SearchResult, hist: np.ndarray):
             "local": "random throws near centres"}
     ax.set_title(f"{result.method} search ({what.get(result.method, 'exact throws')}, {n + result.diverged} throws): "
                  f"{_best_text(result)}\nat {_throw_text(result.best)}", fontsize=9)
-    ax.legend(fontsize=8, loc="best")
+    # below the panel, as the other pictures' (loc="best" put it over the best count's bar; a review)
+    ax.legend(fontsize=8, loc="upper center", bbox_to_anchor=(0.5, -0.13), ncol=1, frameon=False)
     return fig
 
 

@@ -224,9 +224,10 @@ def test_titles_give_the_throw_as_the_command_prints_it():
 
 
 @pytest.mark.parametrize("make", [lambda: _search_figure(gradient(NORMS, BOUNCES, POLISH)),
+                                  lambda: _search_figure(exhaustive("grid", [0] * 8 + [1, 1, 1, 2, 5, 13, 14, 21])),
                                   lambda: _sweep_figure(umin_result([3.0, 2.0, None], [0, 0, 0])),
                                   lambda: _sweep_figure(domain_result())],
-                         ids=["gradient", "umin", "domain"])
+                         ids=["gradient", "histogram", "umin", "domain"])
 def test_legends_sit_outside_the_data(make):
     """The legends are placed below their panels: they cannot hide a line or a point."""
     fig = make()
