@@ -133,6 +133,13 @@ def _shift(a, d, fill):
     return jnp.where(ok, moved, fill)
 
 
+def _centred_offset(spacing: float, shape: tuple, position):
+    """The window offset (2,) int32 [columns] that puts the column (nx // 2, ny // 2) of a window of ``shape``
+    columns of ``spacing`` [m] under ``position``'s x and y [m]."""
+    nx, ny = shape
+    return jnp.round(position[:2] / spacing).astype(jnp.int32) - jnp.array([nx // 2, ny // 2], jnp.int32)
+
+
 def recentre(grid: WaterGrid, water: WaterState, offset, position):
     """Shift the window so the stone at ``position`` (3,) [m] sits at its centre.
 
@@ -144,9 +151,7 @@ def recentre(grid: WaterGrid, water: WaterState, offset, position):
     position = _checked_position(position)    # (a NaN position gave an offset of -4, -4 in silence)
     if jnp.shape(offset) != (2,) or not jnp.issubdtype(jnp.result_type(offset), jnp.integer):
         raise ParameterError(f"offset must be 2 integers (the window's column (0, 0) in world columns), got {offset!r}")
-    nx, ny = grid.shape
-    centre = jnp.round(position[:2] / grid.spacing).astype(jnp.int32)
-    new = centre - jnp.array([nx // 2, ny // 2], jnp.int32)
+    new = _centred_offset(grid.spacing, grid.shape, position)
     d = new - offset
     zero = jnp.zeros((), water.height.dtype)
 
@@ -337,9 +342,7 @@ def initial_field(grid: WaterGrid, position) -> Field:
         raise ParameterError(f"position's x and y must lie within ±{far:g} m ({MAX_OFFSET:g} columns of "
                              f"{grid.spacing:g} m: the window's offset counts columns in int32), got {position!r}")
     dtype = position.dtype
-    nx, ny = grid.shape
-    offset = (jnp.round(position[:2] / grid.spacing).astype(jnp.int32)
-              - jnp.array([nx // 2, ny // 2], jnp.int32))
+    offset = _centred_offset(grid.spacing, grid.shape, position)
     return Field(still_water(grid, dtype=dtype), offset, jnp.zeros(grid.shape, dtype), jnp.zeros((), dtype))
 
 

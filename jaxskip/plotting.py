@@ -450,19 +450,16 @@ def _fill_long_gaps(result, snapshots) -> tuple:
 
 def _recentred(field: dict, origin, height, position) -> tuple:
     """The window of a snapshot (``origin`` (2,) [m], column ``height`` (nx, ny) [m]) moved by whole columns to
-    centre on ``position`` (3,) [m], as :func:`jaxskip.coupled.recentre` moves it: columns that enter hold still
-    water (``field["depth"]``). Returns ``(origin, height)``."""
+    centre on ``position`` (3,) [m], by :func:`jaxskip.coupled.recentre`'s rule: columns that enter hold still
+    water (``field["depth"]``). Returns ``(origin, height)``, host arrays."""
+    import jax.numpy as jnp
+
+    from .coupled import _centred_offset, _shift
+
     l = field["spacing"]  # noqa: E741
-    nx, ny = height.shape
-    old = np.round(np.asarray(origin, dtype=float) / l).astype(int)
-    new = np.round(np.asarray(position[:2], dtype=float) / l).astype(int) - np.array([nx // 2, ny // 2])
-    d = new - old
-    out = np.full_like(height, field["depth"])
-    src_x, src_y = slice(max(d[0], 0), min(nx + d[0], nx)), slice(max(d[1], 0), min(ny + d[1], ny))
-    dst_x, dst_y = slice(max(-d[0], 0), min(nx - d[0], nx)), slice(max(-d[1], 0), min(ny - d[1], ny))
-    if src_x.start < src_x.stop and src_y.start < src_y.stop:
-        out[dst_x, dst_y] = height[src_x, src_y]
-    return new * l, out
+    old = np.round(np.asarray(origin, dtype=float) / l).astype(np.int32)
+    new = np.asarray(_centred_offset(l, height.shape, jnp.asarray(position)))
+    return new * l, np.asarray(_shift(jnp.asarray(height), new - old, field["depth"]))
 
 
 def _pace(durations, span: float) -> str:

@@ -1142,14 +1142,14 @@ def rollout(config: SimConfig, throw: Throw, stone: RigidStone, water: WaterPara
     (True, 'sank')
     """
     _check_rollout_args(config, throw, stone, water)
-    _check_concrete_throw(throw, stone, water)
+    _check_concrete(throw, stone, water)
     throw, stone, water = _one_float_type(throw, stone, water)
     step = make_step(config, surface, max_slope=max_slope)
     (state, tr), recs = _scan(config, step, initial_carry(config, throw, stone), stone, water)
     return state, tr.finish(), (recs if config.record else None)
 
 
-def _check_concrete_throw(throw, stone=None, water=None) -> None:
+def _check_concrete(throw, stone=None, water=None) -> None:
     """:meth:`Throw.check` when no field of ``throw`` is traced (a NaN throw came back "diverged", a tilt of
     3 rad "flipped", in silence); a traced throw passes unchecked. Likewise :meth:`RigidStone.check` and
     :meth:`WaterParams.check` of a concrete ``stone`` and ``water`` (a stone given a negative mass with
@@ -1166,7 +1166,7 @@ _rollout_compiled = jax.jit(rollout, static_argnames=("config", "surface", "max_
 def rollout_jit(config: SimConfig, throw: Throw, stone: RigidStone, water: WaterParams, surface=flat_surface,
                 max_slope: float | None = None):
     _check_rollout_args(config, throw, stone, water, name="rollout_jit")
-    _check_concrete_throw(throw, stone, water)   # (inside the jitted function the values are traced)
+    _check_concrete(throw, stone, water)   # (inside the jitted function the values are traced)
     max_slope = _check_max_slope(config, surface, max_slope)   # (checked before tracing; a float, hashable)
     return _rollout_compiled(config, throw, stone, water, surface=surface, max_slope=max_slope)
 

@@ -50,7 +50,7 @@ import jax.numpy as jnp
 
 from jaxskip import RigidStone, SimConfig, Throw, WaterParams
 from jaxskip._checks import ParameterError, check_positive
-from jaxskip.simulate import (Record, _check_concrete_throw, _check_rollout_args, _one_float_type, _scan, initial_carry,
+from jaxskip.simulate import (Record, _check_concrete, _check_rollout_args, _one_float_type, _scan, initial_carry,
                               initial_state, make_step, rollout)
 
 #: Default clearance level [m]: the tracker's ``SimConfig.bounce_clearance``.
@@ -110,7 +110,7 @@ def soft_bounce_rollout(config: SimConfig, throw: Throw, stone: RigidStone, wate
     """
     _check_knobs(clearance, width)
     _check_rollout_args(config, throw, stone, water, name="soft_bounce_rollout")   # what rollout checks: types,
-    _check_concrete_throw(throw, stone, water)   # one throw, and concrete values (a NaN throw scored 0 in silence)
+    _check_concrete(throw, stone, water)   # one throw, and concrete values (a NaN throw scored 0 in silence)
     throw, stone, water = _one_float_type(throw, stone, water)
     inner = make_step(dataclasses.replace(config, record=True))
 

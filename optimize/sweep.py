@@ -387,17 +387,12 @@ def _umin_chunk(spec: SweepSpec, sim, index: np.ndarray, progress: bool) -> dict
     lo = np.where(inside, speeds[rows, np.maximum(first - 1, 0)], lo)
     hi = np.where(inside, speeds[rows, first], hi)
     line = ProgressLine()
-
-    def bisect(lo, hi, what=""):
-        for i in range(spec.iterations):
-            mid = 0.5 * (lo + hi)
-            ok = bounces(mid[:, None])[:, 0] > 0
-            hi, lo = np.where(ok, mid, hi), np.where(ok, lo, mid)
-            if progress:
-                line.update(f"    bisection{what} {i + 1}/{spec.iterations}")
-        return lo, hi
-
-    lo, hi = bisect(lo, hi)
+    for i in range(spec.iterations):
+        mid = 0.5 * (lo + hi)
+        ok = bounces(mid[:, None])[:, 0] > 0
+        hi, lo = np.where(ok, mid, hi), np.where(ok, lo, mid)
+        if progress:
+            line.update(f"    bisection {i + 1}/{spec.iterations}")
     if progress:
         line.close()
     umin = np.where(at_low > 0, spec.speed_range[0], np.where(found, hi, np.nan))
@@ -1119,8 +1114,8 @@ def _domain_panel(fig, ax, result: dict) -> None:
     # Cells drawn between explicit edges, in increasing order: with one tilt or one attack, shading="nearest"
     # has no spacing to size a cell by and drew nothing (empty axes beside a colour bar).
     t_order, a_order = np.argsort(spec["tilts"]), np.argsort(spec["attacks"])
-    t_edges = _cell_edges(np.asarray(spec["tilts"], dtype=float)[t_order])
-    a_edges = _cell_edges(np.asarray(spec["attacks"], dtype=float)[a_order])
+    tilts, attacks = np.asarray(spec["tilts"], dtype=float)[t_order], np.asarray(spec["attacks"], dtype=float)[a_order]
+    t_edges, a_edges = _cell_edges(tilts), _cell_edges(attacks)
     cells = b[np.ix_(t_order, a_order)].T
     if top <= 20:  # a colour per count, each centred on its integer tick
         from matplotlib import colormaps
@@ -1136,8 +1131,7 @@ def _domain_panel(fig, ax, result: dict) -> None:
         cbar.ax.yaxis.set_major_locator(MaxNLocator(integer=True))
     handles = []
     if min(b.shape) >= 2 and (b > 0).any() and (b == 0).any():
-        ax.contour(np.asarray(spec["tilts"], dtype=float)[t_order], np.asarray(spec["attacks"], dtype=float)[a_order],
-                   (cells > 0).astype(float), levels=[0.5], colors="C3", linewidths=1.5)
+        ax.contour(tilts, attacks, (cells > 0).astype(float), levels=[0.5], colors="C3", linewidths=1.5)
         handles.append(Line2D([], [], color="C3", lw=1.5,
                               label="edge of the bounce domain (≥ 1 bounce), halfway between grid points"))
     failed = np.asarray(result.get("diverged") or np.zeros(b.shape), dtype=bool)
