@@ -29,6 +29,17 @@ rises above :math:`c` again adds what the flight's rise left of its budget. Smal
 count but concentrates the gradient on fewer steps. The true count always
 comes from the exact simulation (:func:`jaxskip.simulate_batch`).
 
+Where it fails: a stone whose lowest point jumps by millimetres in one step leaves and re-enters the
+water one step at a time, and the surrogate counts each such hop while the tracker, which confirms a
+bounce only at a flight's second dry step, counts none. That is a near-vertical stone spinning fast
+(measured, a review of 2026-12-07, 0.3 s at the default 0.25 ms step: tilt -89° / +89° / 60°, 0.1 m/s,
+200 rev/s: 11.7 / 10.3 / 9.0 against true counts of 2 / 1 / 1, whatever the width), far outside a human
+throw (in the human box the surrogate tracks the count, tested). A search over such a box can climb
+towards those throws: check their true counts, or keep the spin and tilt to throws a hand can make. Not
+counting a flight's first dry step removes the overcount but makes :math:`\tilde N` jump by a whole hop
+where a flight's length passes from one step to two; measured, it turned a small search that improved
+its throw from 2 to 11 bounces in 6 steps into one that lost a bounce, so the surrogate keeps the continuous form.
+
 Checking the gradient by finite differences: :math:`\tilde N` is continuous but has dense kinks (the
 max and min above, faces switching on and off, the events of the step): on the default throw central
 differences with relative steps of 1e-6 differ from the gradient by ~2× for speed, tilt and attack; with

@@ -289,7 +289,10 @@ def make_spec(kind: str, *, tilts, attacks=(REFERENCE["attack"],), speed: float 
                        attack=np.array(attacks), spin=spin)
     sim = {**SIM_DEFAULTS, **sim, "stone": stone, "attitude": attitude}
     config, water, rigid = simulation(**sim)
-    sim.update(max_steps=config.max_steps)
+    # the resolved step budget, and plain floats (a NumPy float32 dt or mass ended a sweep with an out folder in
+    # a raw 'not JSON serializable' error, and spec.to_dict() was not the JSON-ready dict it says)
+    sim.update(max_steps=int(config.max_steps), dt=float(config.dt), duration=float(config.duration),
+               **{k: None if sim[k] is None else float(sim[k]) for k in ("mass", "density", "c_lift", "c_friction")})
     # a coefficient given at the law's calibrated value is the default said aloud: stored as the default
     # (None), so that the same sweep resumes whether or not it was given (--c-lift 1 was another sweep)
     for name in ("c_lift", "c_friction"):
@@ -515,6 +518,7 @@ def run_sweep(spec: SweepSpec, out_dir=None, *, shard_index: int = 0, num_shards
         raise ParameterError(f"spec was made in {made_in} and this process computes in {_precision()}: make the spec "
                              "and run it in one precision (jax.config.update('jax_enable_x64', ...) before both), "
                              "so that its spec.json says what its chunks hold")
+    _check_made(spec)
     out = None if out_dir is None else _out_folder(out_dir)
     sim = _sim(spec)  # before anything is written
     if out is not None:
@@ -558,6 +562,18 @@ def run_sweep(spec: SweepSpec, out_dir=None, *, shard_index: int = 0, num_shards
     if out is not None:
         write_results(result, out)
     return result
+
+
+def _check_made(spec: SweepSpec) -> None:
+    """Refuse a spec that :func:`make_spec` would not make of its own fields: one built by hand or changed with
+    ``dataclasses.replace`` skips its checks (a kind ``"x"`` ran as a U_min sweep, an inverted speed range gave
+    a negative resolution, a chunk size of 0 a raw ValueError, duplicate tilts ran twice)."""
+    fields = {f.name: getattr(spec, f.name) for f in dataclasses.fields(SweepSpec) if f.name != "config"}
+    remade = make_spec(fields.pop("kind"), **fields)   # raises ParameterError naming a bad field
+    if remade != spec:
+        differs = _spec_difference(spec.to_dict(), remade.to_dict()).replace("its spec.json", "it")
+        raise ParameterError(f"spec is not what optimize.make_spec makes of its own fields ({differs}): build specs "
+                             "with make_spec, not by hand or with dataclasses.replace, which skip its checks")
 
 
 def _warn_diverged(spec: SweepSpec, chunks: list[dict], config) -> None:

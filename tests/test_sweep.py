@@ -425,6 +425,35 @@ def test_run_sweep_refuses_what_the_command_refuses(tmp_path):
     assert run_sweep(spec, tmp_path / "new")["bounces"] and (tmp_path / "new" / "result.json").exists()
 
 
+@pytest.mark.parametrize("change, message", [
+    ({"kind": "x"}, "kind must be 'domain' or 'umin'"),                    # ran as a U_min sweep
+    ({"speed_range": (8.0, 1.0)}, "speed_range is inverted"),              # a negative resolution
+    ({"attacks": (10.0, 20.0)}, "attacks must be one angle for a umin sweep"),   # the second ignored
+    ({"tilts": ()}, "tilts must be a number or a non-empty list"),         # an empty result
+    ({"tilts": (10.0, 10.0)}, "tilts must not repeat an angle"),           # simulated twice
+    ({"chunk_size": 0}, "chunk_size must be an integer >= 1"),             # a raw ValueError from range()
+    ({"max_steps": 5}, r"spec is not what optimize.make_spec makes .*differs in config"),   # a stale config
+])
+def test_run_sweep_refuses_a_spec_make_spec_would_not_make(change, message):
+    """A SweepSpec changed with dataclasses.replace (or built by hand) skips make_spec's checks: run_sweep checks
+    it again, before anything is simulated or written."""
+    import dataclasses
+    spec = make_spec("umin", tilts=[10.0, 20.0], iterations=1, duration=0.3)
+    with pytest.raises(ParameterError, match=message):
+        run_sweep(dataclasses.replace(spec, **change))
+
+
+def test_numpy_settings_make_a_json_ready_spec(tmp_path):
+    """NumPy float32 settings (dt, mass, duration, coefficients) are stored as plain floats: the spec's dict is
+    JSON-ready, as it says, and a sweep with an out folder runs (it raised 'float32 is not JSON serializable')."""
+    f32 = np.float32
+    spec = make_spec("domain", tilts=[20.0], attacks=[20.0], dt=f32(2.5e-4), duration=f32(0.5), mass=f32(0.05),
+                     c_lift=f32(0.9), c_friction=f32(0.25))
+    assert all(type(getattr(spec, k)) is float for k in ("dt", "duration", "mass", "c_lift", "c_friction"))
+    assert json.loads(json.dumps(spec.to_dict())) == spec.to_dict()
+    assert run_sweep(spec, tmp_path / "s")["bounces"] == run_sweep(spec)["bounces"]
+
+
 @pytest.mark.parametrize("x, y, name", [
     ("ab", "cd", "x"),                                   # text: was a raw ValueError from float('a')
     (5.0, 6.0, "x"),                                     # a number alone: was a TypeError
