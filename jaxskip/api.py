@@ -32,7 +32,7 @@ from .mesh import TriMesh
 from .coupled import (check_shared_constants, check_window_fits, coupled_interval, coupled_substeps, initial_field,
                       make_coupled_step)
 from .simulate import (_ALIVE, DIVERGED, LEAVING, OUTCOMES, DivergedWarning, STEP_LIMIT, SimConfig, StoneState, Tracker, _new_tracker, _scan,
-                       diverged_message, initial_state, make_step, warn_if_coarse, warn_if_unstable)
+                       diverged_message, initial_state, make_step, warn_if_coarse, warn_if_inert, warn_if_unstable)
 from .stones import BUILTIN_STONES, load_stone
 from .throw import Throw
 from .water import WaterGrid, placeless, total_volume
@@ -391,12 +391,14 @@ def _default_throw(x64: bool) -> Throw:
 
 def checked_config(config, stacklevel: int = 4) -> SimConfig:
     """``config`` (None: ``SimConfig()``) after its type check; warns if its ``dt`` is coarse
-    (:class:`jaxskip.AccuracyWarning`), attributed ``stacklevel`` frames up (4: the caller of the function
-    that calls this one)."""
+    (:class:`jaxskip.AccuracyWarning`) or its velocity option does nothing with the tilt held
+    (``UserWarning``, :func:`jaxskip.simulate.inert_velocity_message`), attributed ``stacklevel`` frames up (4:
+    the caller of the function that calls this one)."""
     config = SimConfig() if config is None else config
     if not isinstance(config, SimConfig):
         raise ParameterError(f"config must be a jaxskip.SimConfig, got {type(config).__name__}")
     warn_if_coarse(config, stacklevel=stacklevel)
+    warn_if_inert(config, stacklevel=stacklevel)
     return config
 
 

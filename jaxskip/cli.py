@@ -396,11 +396,7 @@ def _throw(args) -> int:
                                height=args.height, heading=args.heading)
     values = sim_values(args)
     config, water, stone = simulation(**values)
-    if config.attitude == "fixed" and config.force.velocity != "body":
-        # (a review: --velocity local and passive ran the body law's throw to the bit, recorded as asked)
-        warnings.warn(f"--velocity {config.force.velocity} has no effect with --attitude fixed: with the tilt held "
-                      "no face turns, so every face moves at the centre of mass's velocity (the body law's throw)",
-                      UserWarning, stacklevel=2)
+    # (--velocity local or passive with --attitude fixed: simulate warns, jaxskip.simulate.inert_velocity_message)
     progress = show_progress(args)  # on stderr: stdout keeps its one JSON object
     field = None
     if args.water == "field":

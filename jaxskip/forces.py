@@ -121,8 +121,9 @@ class ForceModel:
     ``"body"`` the free disk at 65 rev/s reproduces the fixed-attitude (high-spin) curve.
     ``"passive"`` (Bocquet's law only): the pressure from the centre of mass's velocity, the
     lift's loading from each face's own, the friction acting at the centre of mass, so the water
-    never adds energy and its friction cannot drive the stone like a wheel (module docstring); with
-    the tilt held it is ``"body"``."""
+    never adds energy and its friction cannot drive the stone like a wheel (module docstring). With
+    the tilt held (``SimConfig(attitude="fixed")``) no face turns, so ``"local"`` and ``"passive"`` give
+    ``"body"``'s throw to the bit: :func:`jaxskip.simulate`, the searches and the sweeps warn."""
     normalize_lift: bool = True
     """Seed law only: lift magnitude ``∝ cos θ`` (True, as the paper states) or ``∝ cos² θ`` (eq. 2 as printed)."""
     sharpness: float | None = None

@@ -128,7 +128,8 @@ class SimConfig:
     integrator: str = "euler"
     """``"euler"`` (semi-implicit, gravity exact) or ``"rk4"``."""
     attitude: str = "free"
-    """``"free"`` (6-DoF with gyroscopic torques) or ``"fixed"`` (tilt held; high-spin limit)."""
+    """``"free"`` (6-DoF with gyroscopic torques) or ``"fixed"`` (tilt held; high-spin limit: the stone does not
+    turn, so the spin sets no motion and ``force.velocity`` ``"local"`` and ``"passive"`` act as ``"body"``)."""
     flight: str = "jump"
     """``"jump"``: conservative-advancement steps through the air; ``"step"``: fixed ``dt`` everywhere."""
     max_flight_step: float = 0.02
@@ -229,6 +230,24 @@ def warn_if_coarse(config: "SimConfig", stacklevel: int = 3) -> None:
     message = coarse_dt_message(config.dt)
     if message is not None:
         warnings.warn(message, AccuracyWarning, stacklevel=stacklevel)
+
+
+def inert_velocity_message(config: "SimConfig") -> str | None:
+    """Why ``config.force.velocity`` does nothing, or None: with ``attitude="fixed"`` no face turns, so every
+    face moves at the centre of mass's velocity and ``"local"`` and ``"passive"`` give the body law's throw
+    (to the bit)."""
+    if config.attitude == "fixed" and config.force.velocity != "body":
+        v = config.force.velocity
+        return (f"velocity='{v}' has no effect with attitude='fixed': with the tilt held no face turns, so every "
+                "face moves at the centre of mass's velocity (the body law's throw)")
+    return None
+
+
+def warn_if_inert(config: "SimConfig", stacklevel: int = 3) -> None:
+    """Issue a ``UserWarning`` if ``config``'s velocity option does nothing (:func:`inert_velocity_message`)."""
+    message = inert_velocity_message(config)
+    if message is not None:
+        warnings.warn(message, UserWarning, stacklevel=stacklevel)
 
 
 def contact_step_bound(stone: RigidStone, water: WaterParams, speed) -> float:

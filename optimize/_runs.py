@@ -26,7 +26,8 @@ RELEASE_HEIGHT = 0.001
 
 @contextlib.contextmanager
 def silenced_batches(coarse: bool = False):
-    """Silence :class:`~jaxskip.StabilityWarning` and :class:`~jaxskip.DivergedWarning` for a run's batches
+    """Silence :class:`~jaxskip.StabilityWarning`, :class:`~jaxskip.DivergedWarning` and the inert-velocity warning
+    (:func:`jaxskip.simulate.inert_velocity_message`) for a run's batches
     (the run issues them once); with ``coarse`` every :class:`~jaxskip.AccuracyWarning`, the coarse-``dt``
     one included (for a caller that has issued it already). Each ``catch_warnings`` clears Python's memory
     of "once" warnings: entered per batch without ``coarse``, the coarse-``dt`` warning came again after
@@ -34,6 +35,8 @@ def silenced_batches(coarse: bool = False):
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", AccuracyWarning if coarse else StabilityWarning)
         warnings.simplefilter("ignore", DivergedWarning)
+        # (an inert velocity option is said once, by the search's or the sweep spec's check of the config)
+        warnings.filterwarnings("ignore", message=r"velocity='\w+' has no effect with attitude='fixed'")
         yield
 
 

@@ -68,7 +68,7 @@ from jaxskip._files import check_picture_path, writing
 from jaxskip._progress import ProgressLine
 from jaxskip.forces import DEFAULT_COEFFICIENTS
 from jaxskip.settings import SIM_DEFAULTS, describe, simulation
-from jaxskip.simulate import AccuracyWarning, SimConfig
+from jaxskip.simulate import AccuracyWarning, SimConfig, warn_if_inert
 from jaxskip.stones import BUILTIN_STONES
 from jaxskip.throw import MAX_SPEED, MAX_SPIN_REVS
 
@@ -289,6 +289,7 @@ def make_spec(kind: str, *, tilts, attacks=(REFERENCE["attack"],), speed: float 
                        attack=np.array(attacks), spin=spin)
     sim = {**SIM_DEFAULTS, **sim, "stone": stone, "attitude": attitude}
     config, water, rigid = simulation(**sim)
+    warn_if_inert(config, stacklevel=2)
     # the resolved step budget, and plain floats (a NumPy float32 dt or mass ended a sweep with an out folder in
     # a raw 'not JSON serializable' error, and spec.to_dict() was not the JSON-ready dict it says)
     sim.update(max_steps=int(config.max_steps), dt=float(config.dt), duration=float(config.duration),
@@ -569,7 +570,9 @@ def _check_made(spec: SweepSpec) -> None:
     ``dataclasses.replace`` skips its checks (a kind ``"x"`` ran as a U_min sweep, an inverted speed range gave
     a negative resolution, a chunk size of 0 a raw ValueError, duplicate tilts ran twice)."""
     fields = {f.name: getattr(spec, f.name) for f in dataclasses.fields(SweepSpec) if f.name != "config"}
-    remade = make_spec(fields.pop("kind"), **fields)   # raises ParameterError naming a bad field
+    with warnings.catch_warnings():   # (make_spec warned when the spec was made)
+        warnings.simplefilter("ignore")
+        remade = make_spec(fields.pop("kind"), **fields)   # raises ParameterError naming a bad field
     if remade != spec:
         differs = _spec_difference(spec.to_dict(), remade.to_dict()).replace("its spec.json", "it")
         raise ParameterError(f"spec is not what optimize.make_spec makes of its own fields ({differs}): build specs "

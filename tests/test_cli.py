@@ -618,7 +618,16 @@ def test_inert_and_off_default_settings_are_said(tmp_path, capsys):
 
     assert main(["throw", "--attitude", "fixed", "--velocity", "local", "--duration", "0.05", "--json"]) == 0
     out = json.loads(capsys.readouterr().out)
-    assert any("--velocity local has no effect with --attitude fixed" in w["message"] for w in out["warnings"])
+    assert [w["message"] for w in out["warnings"]].count(
+        "--velocity local has no effect with --attitude fixed: with the tilt held no face turns, so every face moves "
+        "at the centre of mass's velocity (the body law's throw)") == 1
+    # the sweeps and searches say it too (they said nothing, and a sweep recorded velocity passive as another sweep)
+    for command in (["sweep", "domain", "--tilts", "20", "--attacks", "20"],
+                    ["optimize", "--method", "random", "--throws", "4", "--speed", "5", "--attack", "10", "--spin", "5",
+                     "--tilt-range", "10", "30"]):
+        assert main([*command, "--attitude", "fixed", "--velocity", "passive", "--duration", "0.2", "--json"]) == 0
+        said = [w["message"] for w in json.loads(capsys.readouterr().out)["warnings"]]
+        assert sum("--velocity passive has no effect with --attitude fixed" in m for m in said) == 1, (command, said)
     assert main(["throw", "--attitude", "fixed", "--duration", "0.05"]) == 0
     text = capsys.readouterr().out
     assert "with --attitude fixed the stone does not turn: --spin sets no motion, and its" in text

@@ -976,3 +976,30 @@ def test_rollout_and_the_soft_count_check_a_concrete_stone_water_and_throw():
         make_objective("bounces", config, stone, water)(nan)
     with pytest.raises(ParameterError, match=r"^rollout_jit takes one throw"):
         rollout_jit(config, Throw.from_degrees(tilt=[10.0, 20.0]), stone, water)
+
+
+def test_an_inert_velocity_option_is_warned_of_in_python():
+    """(2026-12-07, a review) with the tilt held, velocity 'local' and 'passive' run the body law's throw to the bit;
+    only `jaxskip throw` said so. simulate, simulate_batch, the searches and make_spec warn now (once a search:
+    its batches stay silent); the body law, or a free stone, is not warned of."""
+    import re
+    import warnings
+
+    from jaxskip import simulate_batch
+    from optimize import make_spec, random_search
+
+    said = r"velocity='(local|passive)' has no effect with attitude='fixed'"
+    fixed = {v: SimConfig(attitude="fixed", duration=0.05, force=ForceModel(velocity=v)) for v in ("local", "passive")}
+    with pytest.warns(UserWarning, match=said):
+        local = simulate(config=fixed["local"])
+    with pytest.warns(UserWarning, match=said):
+        simulate_batch(Throw.from_degrees(speed=[5.0, 6.0]), config=fixed["passive"])
+    with pytest.warns(UserWarning, match=said):
+        make_spec("umin", tilts=[20.0], velocity="passive")
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        random_search({"tilt": (10.0, 30.0)}, throws=4, config=fixed["passive"])
+        body = simulate(config=SimConfig(attitude="fixed", duration=0.05))
+        simulate(config=SimConfig(duration=0.05, force=ForceModel(velocity="passive")))
+    assert sum(bool(re.match(said, str(w.message))) for w in caught) == 1, [str(w.message) for w in caught]
+    assert (local.bounces, local.distance) == (body.bounces, body.distance)   # what the warning says
