@@ -180,3 +180,31 @@ def test_distance_objective_gradient_matches_finite_differences(paper, water, at
         assert np.isfinite(ad) and abs(ad - fine) <= 1e-5 * scale, (name, ad, fine)
     if attitude == "free":
         assert abs(float(grad.spin)) > 1e-3  # spin matters to the free stone
+
+
+def test_a_face_lying_on_the_water_is_not_cut_by_rounding_noise(water):
+    """(2026-12-07, a review) a flat-faced stone at tilt exactly 0: its principal-frame face heights differ by
+    rounding (~1e-18 m), a flight jump lands the face exactly on the water, and the clip split it by that noise:
+    the final position depended on picometre changes of the release height (8.58-8.78 m), and its gradient
+    w.r.t. tilt was -1.9e20 (free: -1.2e16), finite, so no guard caught it. Heights within
+    clipping.surface_tolerance of the water now count as on it."""
+    from jaxskip import clanet_disk, rigid_stone
+    from jaxskip.clipping import clip_weights, surface_tolerance
+
+    # the kernel: a horizontal triangle whose heights straddle the water by rounding is on it, with no derivative
+    zeta = jnp.array([1e-18, -8e-19, 3e-19])
+    jac = jax.jacfwd(lambda z: clip_weights(z)[0])(zeta)
+    assert float(clip_weights(zeta)[0]) == 0.0 and float(jnp.max(jnp.abs(jac))) == 0.0
+    assert surface_tolerance(jnp.float64) < 1e-15 and surface_tolerance(jnp.float32) < 1e-6
+    # a real corner still cuts exactly: one vertex 1 mm under, the others 1 mm above -> fraction 1/4
+    assert abs(float(clip_weights(jnp.array([-1e-3, 1e-3, 1e-3]))[0]) - 0.25) < 1e-15
+
+    disk = rigid_stone(clanet_disk(), density=2700.0)
+    for attitude in ("fixed", "free"):
+        config = SimConfig(record=False, max_steps=300, duration=100.0, attitude=attitude)
+        reach = jax.jit(lambda t: rollout(config, t, disk, water)[0].position[0])
+        flat = dataclasses.replace(Throw.from_degrees(spin=0.0, attack=10.0), tilt=jnp.asarray(0.0))
+        xs = [float(reach(dataclasses.replace(flat, height=flat.height + k * 1e-12))) for k in range(4)]
+        assert max(xs) - min(xs) < 1e-9, (attitude, xs)      # was 0.2 m (fixed) and 19 mm (free) apart
+        g = jax.jit(jax.grad(lambda t: rollout(config, t, disk, water)[0].position[0]))(flat)
+        assert all(abs(float(getattr(g, k))) < 1e3 for k in ("speed", "tilt", "attack")), (attitude, g)
