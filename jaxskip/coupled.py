@@ -65,7 +65,7 @@ import numpy as np
 from ._docs import document_fields
 from .body import RigidStone
 from .forces import WaterParams
-from .simulate import SimConfig, _check_rollout_args, _scan, initial_carry, make_step
+from .simulate import SimConfig, _check_concrete, _check_rollout_args, _scan, initial_carry, make_step
 from ._checks import ParameterError, check_bool, check_int, check_range
 from .throw import Throw
 from .water import (WaterGrid, WaterState, _check_grid, deposit, height_at, make_water_step, still_water,
@@ -415,6 +415,7 @@ def rollout_coupled(config: SimConfig, grid: WaterGrid, throw: Throw, stone: Rig
     _check_grid(grid)
     _check_rollout_args(config, throw, stone, water, name="rollout_coupled",   # (a batched throw met a raw
                         signature="(config, grid, throw, stone, water)")     # broadcasting error)
+    _check_concrete(throw, stone, water)   # (a NaN speed 'diverged', a mass of -0.1 'sank', in silence)
     check_shared_constants(grid, water)
     check_window_fits(grid, stone)
     state, tracker = initial_carry(config, throw, stone)

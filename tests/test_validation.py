@@ -974,6 +974,11 @@ def test_rollout_and_the_soft_count_check_a_concrete_stone_water_and_throw():
             run(config, nan, stone, water)
     with pytest.raises(ParameterError, match=r"speed must be finite"):
         make_objective("bounces", config, stone, water)(nan)
+    from jaxskip.coupled import default_window, rollout_coupled   # (the same, later: 'diverged', 'sank', 'flipped')
+    for args, said in (((nan, stone, water), r"speed must be finite"), ((throw, light, water), r"mass must be > 0"),
+                       ((throw, stone, weak), r"c_lift must be in \[0, 10\]")):
+        with pytest.raises(ParameterError, match=said):
+            rollout_coupled(config, default_window(), *args)
     with pytest.raises(ParameterError, match=r"^rollout_jit takes one throw"):
         rollout_jit(config, Throw.from_degrees(tilt=[10.0, 20.0]), stone, water)
 
