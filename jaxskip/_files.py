@@ -62,7 +62,12 @@ def check_picture_path(name: str, path) -> None:
     """Refuse, before anything is drawn, a picture path (``str`` or ``os.PathLike``) without a suffix that
     matplotlib writes: ``"h2"`` was saved as ``h2.png``, a file the caller never named, and ``"h2.tx"``
     failed after the figure was drawn. ``None`` and file objects (which ``savefig`` takes) pass."""
-    if path is None or not isinstance(path, (str, os.PathLike)):
+    if path is None:
+        return
+    if not isinstance(path, (str, os.PathLike)):
+        if not callable(getattr(path, "write", None)):   # (5 met a raw AttributeError from savefig)
+            raise ParameterError(f"{name} must be a file path (.png, .pdf or .svg) or a binary file object, got "
+                                 f"{type(path).__name__}")
         return
     from matplotlib.backend_bases import FigureCanvasBase
 

@@ -12,16 +12,32 @@ run (:func:`warn_diverged`).
 from __future__ import annotations
 
 import contextlib
+import os
+import sys
 import warnings
 
 import numpy as np
 
+import jaxskip
 from jaxskip import simulate_batch
 from jaxskip.simulate import (DIVERGED, AccuracyWarning, DivergedWarning, StabilityWarning, diverged_message,
                               warn_if_unstable)
 
 #: Release height [m] of every throw of the searches and sweeps (``Throw.from_degrees``' default).
 RELEASE_HEIGHT = 0.001
+#: The folders of the two packages: a run's warnings name the first frame outside them (:func:`caller_level`).
+_LIBRARY = tuple(os.path.dirname(os.path.abspath(f)) + os.sep for f in (jaxskip.__file__, __file__))
+
+
+def caller_level() -> int:
+    """The ``stacklevel`` that attributes a warning issued by the function calling this one to the first frame
+    outside jaxskip and optimize: the user's call, however deep the run's helpers (a search's warnings named the
+    search's own lines, or its settings-recording wrapper's). Use ``warnings.warn(..., stacklevel=caller_level())``
+    there; a helper that warns one frame further down takes one more."""
+    frame, level = sys._getframe(1), 1
+    while frame is not None and os.path.abspath(frame.f_code.co_filename).startswith(_LIBRARY):
+        frame, level = frame.f_back, level + 1
+    return level
 
 
 @contextlib.contextmanager

@@ -144,9 +144,12 @@ class Box:
                                  f"({', '.join(self.names)}), got shape {shape}")
 
     def to_user(self, u) -> dict:
-        """Unconstrained ``u`` (..., P) -> user-unit values of the searched parameters (host floats)."""
+        """Unconstrained ``u`` (..., P), finite -> user-unit values of the searched parameters (host floats)."""
         self._check_columns(u)
         u = np.asarray(u, dtype=float)
+        if not np.all(np.isfinite(u)):   # (NaN came back as a NaN speed; from_user refuses it)
+            raise ParameterError(f"u must be finite (unconstrained coordinates; ±inf is no bound either), got "
+                                 f"{u[~np.isfinite(u)].flat[0]!r}")
         return {name: lo + (hi - lo) / (1.0 + np.exp(-u[..., i])) for i, (name, lo, hi) in enumerate(self.searched)}
 
     def _searched_values(self, values) -> dict:

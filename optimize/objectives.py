@@ -59,7 +59,7 @@ import dataclasses
 import jax
 import jax.numpy as jnp
 
-from jaxskip import RigidStone, SimConfig, Throw, WaterParams
+from jaxskip import RigidStone, SimConfig, StoneState, Throw, WaterParams
 from jaxskip._checks import ParameterError, check_positive
 from jaxskip.simulate import (Record, _check_concrete, _check_rollout_args, _one_float_type, _scan, initial_carry,
                               initial_state, make_step, rollout)
@@ -147,7 +147,7 @@ def distance(state, throw: Throw, stone: RigidStone):
 
     ``state``: a :class:`jaxskip.StoneState` (position (3,) [m]) of the ``throw`` (one :class:`Throw`,
     shape ()) of ``stone``; under ``vmap`` both carry the batch axis. Returns a scalar [m]."""
-    for name, value, cls in (("throw", throw, Throw), ("stone", stone, RigidStone)):
+    for name, value, cls in (("throw", throw, Throw), ("stone", stone, RigidStone), ("state", state, StoneState)):
         if not isinstance(value, cls):
             raise ParameterError(f"distance(state, throw, stone): {name} must be a jaxskip.{cls.__name__}, got "
                                  f"{type(value).__name__}")
@@ -172,7 +172,7 @@ def make_objective(kind: str, config: SimConfig, stone: RigidStone, water: Water
     (``config.record`` is ignored).
     """
     if kind not in ("bounces", "distance"):
-        raise ParameterError(f"objective must be 'bounces' or 'distance', got {kind!r}")
+        raise ParameterError(f"kind (the objective) must be 'bounces' or 'distance', got {kind!r}")
     for name, value, cls, hint in (("config", config, SimConfig, "jaxskip.SimConfig"),
                                    ("stone", stone, RigidStone, "jaxskip.RigidStone (see jaxskip.rigid_stone)"),
                                    ("water", water, WaterParams, "jaxskip.WaterParams (see jaxskip.water_params)")):

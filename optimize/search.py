@@ -57,7 +57,7 @@ from jaxskip.api import checked_config, checked_water, resolve_stone
 
 from .bounds import LIMITS, PARAMETERS, Box, make_box, throw_in_box
 from .objectives import WIDTH, make_objective
-from ._runs import batch, silenced_batches, warn_diverged, warn_stability
+from ._runs import batch, caller_level, silenced_batches, warn_diverged, warn_stability
 
 
 @document_fields
@@ -205,9 +205,9 @@ MAX_THROWS = 100_000_000
 #: coordinates u (a parameter is low + (high - low) sigmoid(u)): a step of 10 already crosses the whole box
 #: (sigmoid(-5) to sigmoid(5) is 0.7 % to 99.3 % of it); beyond, Adam's steps only pin the starts to its edges.
 MAX_STEP = 10.0
-#: Most grid points per searched parameter of :func:`grid_search` (:func:`grid_points`).
+#: Best distinct throws an ascent visited that its polish samples around (fewer if it visited fewer).
 POLISH_CENTRES = 4
-"""Best distinct throws an ascent visited that its polish samples around (fewer if it visited fewer)."""
+#: Most grid points per searched parameter of :func:`grid_search` (:func:`grid_points`).
 MAX_PER_AXIS = 10_000
 #: Most grid points in all of :func:`grid_search` (:func:`grid_points`).
 MAX_GRID_POINTS = 100_000_000
@@ -282,7 +282,8 @@ def _warn_stability(box: Box, rigid, config: SimConfig, water) -> None:
     """One :class:`jaxskip.StabilityWarning` for a search, at the fastest throw of its box."""
     speed = dict(box.held).get("speed")
     speed = speed if speed is not None else next(hi for name, _, hi in box.searched if name == "speed")
-    warn_stability(config, rigid, water_params(config.force.law) if water is None else water, speed, stacklevel=4)
+    warn_stability(config, rigid, water_params(config.force.law) if water is None else water, speed,
+                   stacklevel=caller_level() + 1)
 
 
 def _true_counts(box: Box, values: dict, stone, config: SimConfig, lanes: int | None = None,
@@ -337,13 +338,14 @@ class _Best:
                                  f"'diverged'): config.dt = {config.dt:g} s is too long for this stone and box; "
                                  "take a smaller dt")
         warn_diverged(self.diverged, self.seen, what, f"they score {DIVERGED_SCORE} bounces and {DIVERGED_SCORE} m "
-                      "in its history and are never its best", config, stacklevel=3)
+                      "in its history and are never its best", config, stacklevel=caller_level())
         if self.cut_off:   # (a search at --duration 0.3 reported a best count one short, in silence)
             warnings.warn(f"{self.cut_off} of the {self.seen} exact throws of this {what} were still in play when the "
                           f"run stopped them at duration={config.duration:g} s or max_steps={config.max_steps}: their "
                           f"counts and distances are lower bounds"
                           + (", the best throw's among them" if self.best_cut else "")
-                          + "; raise them (--duration, --max-steps in the CLI)", AccuracyWarning, stacklevel=3)
+                          + "; raise them (--duration, --max-steps in the CLI)", AccuracyWarning,
+                          stacklevel=caller_level())
 
 
 def _as_box(box) -> Box:
@@ -612,6 +614,17 @@ def top_throws(history: list, k: int, objective: str = "bounces") -> dict:
         raise ParameterError("history has no points: top_throws needs a gradient_search history")
     if any(key not in h for h in history if "points" in h):
         raise ParameterError(f"history has no {key!r} for every entry: search with objective={key!r}")
+    for i, h in enumerate(history):   # (a hand-edited or reloaded history met raw ValueErrors and IndexErrors)
+        if "points" not in h:
+            continue
+        points = h["points"]
+        if not isinstance(points, dict) or sorted(points) != sorted(names):
+            raise ParameterError(f"history entry {i}: 'points' must be a dict of the same parameters as the first "
+                                 f"entry's ({', '.join(names)}), got {points!r:.80}")
+        sizes = {np.size(points[n]) for n in names} | {np.size(h[key])}
+        if len(sizes) != 1:
+            raise ParameterError(f"history entry {i}: its points and its {key!r} must give one value per throw, got "
+                                 f"lengths {sorted(np.size(points[n]) for n in names)} and {np.size(h[key])}")
     pts = np.stack([np.concatenate([np.asarray(h["points"][n], float) for h in history if "points" in h])
                     for n in names], axis=-1)
     counts = np.concatenate([np.asarray(h[key], float) for h in history if "points" in h])

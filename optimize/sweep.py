@@ -72,7 +72,7 @@ from jaxskip.simulate import AccuracyWarning, SimConfig, warn_if_inert
 from jaxskip.stones import BUILTIN_STONES
 from jaxskip.throw import MAX_SPEED, MAX_SPIN_REVS
 
-from ._runs import batch, silenced_batches, warn_diverged, warn_stability
+from ._runs import batch, caller_level, silenced_batches, warn_diverged, warn_stability
 from .bounds import check_interval
 
 #: Clanet et al.'s reference throw (physics.md §4).
@@ -115,10 +115,15 @@ def umin_resolution(speed_range, iterations: int) -> float:
     """Width [m/s] of a U_min sweep's final bisection bracket at every tilt: the scan's step,
     ``(high - low) / (SCAN_SPEEDS + 1)``, halved ``iterations`` times.
 
+    ``speed_range``: ``(low, high)`` [m/s], 0 < low < high <= 100; ``iterations``: an integer in [0, 40]
+    (:data:`MAX_BISECTIONS`; 0: the scan's step). Anything else is refused with :class:`~jaxskip.ParameterError`.
+
     >>> umin_resolution((0.5, 8.0), 10)   # 7.5 / 9 / 1024
     0.0008138020833333334
     """
-    low, high = speed_range
+    # (an inverted range gave a negative resolution, text a raw TypeError)
+    low, high = check_interval("speed_range", speed_range, 0.0, MAX_SPEED, unit="m/s", low_open=True, holdable=False)
+    iterations = check_int("iterations", iterations, minimum=0, maximum=MAX_BISECTIONS)
     return (high - low) / (SCAN_SPEEDS + 1) / 2**iterations
 
 
@@ -289,7 +294,7 @@ def make_spec(kind: str, *, tilts, attacks=(REFERENCE["attack"],), speed: float 
                        attack=np.array(attacks), spin=spin)
     sim = {**SIM_DEFAULTS, **sim, "stone": stone, "attitude": attitude}
     config, water, rigid = simulation(**sim)
-    warn_if_inert(config, stacklevel=2)
+    warn_if_inert(config, stacklevel=caller_level() + 1)
     # the resolved step budget, and plain floats (a NumPy float32 dt or mass ended a sweep with an out folder in
     # a raw 'not JSON serializable' error, and spec.to_dict() was not the JSON-ready dict it says)
     sim.update(max_steps=int(config.max_steps), dt=float(config.dt), duration=float(config.duration),
@@ -535,7 +540,8 @@ def run_sweep(spec: SweepSpec, out_dir=None, *, shard_index: int = 0, num_shards
     if any(j % num_shards == shard_index and (p is None or not p.exists()) for j, p in enumerate(paths)):
         # once for the run, at its fastest throw (each batch's own warning is silenced)
         config, water, rigid = sim
-        warn_stability(config, rigid, water, spec.speed_range[1] if spec.kind == "umin" else spec.speed)
+        warn_stability(config, rigid, water, spec.speed_range[1] if spec.kind == "umin" else spec.speed,
+                       stacklevel=caller_level() + 1)
     with silenced_batches():
         for j, (index, path) in enumerate(zip(chunks, paths)):
             if path is not None and path.exists():
@@ -589,7 +595,7 @@ def _warn_diverged(spec: SweepSpec, chunks: list[dict], config) -> None:
         total *= _umin_throws(spec)
         bad = sum(1 for c in chunks for n in c["diverged"] if n)
         what, treatment = "U_min sweep", f"{bad} tilt(s) have no U_min ('diverged' counts them per tilt)"
-    warn_diverged(failed, total, what, treatment, config, stacklevel=3)
+    warn_diverged(failed, total, what, treatment, config, stacklevel=caller_level())
 
 
 def _warn_not_monotone(spec: SweepSpec, chunks: list[dict]) -> None:
@@ -606,7 +612,8 @@ def _warn_not_monotone(spec: SweepSpec, chunks: list[dict]) -> None:
                       f"failed to bounce where a slower one bounced ('monotone' 0 in the result, and in result.json and result.csv when it has an out folder; a "
                       f"free stone can flip at speed): U_min there is the lowest speed that bounces among the "
                       f"{SCAN_SPEEDS + 2} thrown {step:.3g} m/s apart, refined by bisection; a bouncing window "
-                      f"narrower than {step:.3g} m/s below it would be missed", AccuracyWarning, stacklevel=3)
+                      f"narrower than {step:.3g} m/s below it would be missed", AccuracyWarning,
+                      stacklevel=caller_level())
 
 
 def _warn_cut_off(spec: SweepSpec, chunks: list[dict], config) -> None:
@@ -625,7 +632,7 @@ def _warn_cut_off(spec: SweepSpec, chunks: list[dict], config) -> None:
                 f"first bounce, so whether they bounce is unknown: {bad} tilt(s) have no U_min ('cut_off' counts them "
                 "per tilt)")
     warnings.warn(f"{what}; the run stops a throw at duration={config.duration:g} s or max_steps={config.max_steps}: "
-                  "raise them (--duration, --max-steps in the CLI)", AccuracyWarning, stacklevel=3)
+                  "raise them (--duration, --max-steps in the CLI)", AccuracyWarning, stacklevel=caller_level())
 
 
 def _out_folder(out_dir) -> Path:
@@ -874,7 +881,7 @@ def assemble(spec: SweepSpec, chunks: list[dict]) -> dict:
 
     A U_min sweep's result: ``umin`` per tilt [m/s] (None: no bounce at any speed thrown, the bracket's
     ends and the :data:`SCAN_SPEEDS` between them), ``best_tilt`` [deg] / ``best_umin`` [m/s] the lowest
-    grid point (the first of them), ``tied_tilts`` [deg] the grid points that share that lowest ``umin``
+    grid point (on a tie, the smallest of the tied tilts), ``tied_tilts`` [deg] the grid points that share that lowest ``umin``
     when more than one does (a tie: no single minimum at this resolution; else empty), ``best_tilt_fit`` /
     ``best_umin_fit`` the minimum between grid points (:func:`parabola_minimum`; None at the
     sweep's edge, at a tie, and when any tilt bounces at the bracket's low end), ``resolution`` the width
@@ -927,7 +934,9 @@ def assemble(spec: SweepSpec, chunks: list[dict]) -> dict:
 
 
 def write_results(result: dict, out: Path) -> None:
-    """``result.json`` (everything) and ``result.csv`` (one row per tilt, or per tilt and attack)."""
+    """``result.json`` (everything) and ``result.csv`` (one row per tilt, or per tilt and attack), in the folder
+    ``out`` (a path, ``str`` or ``os.PathLike``)."""
+    out = Path(out)   # (a str met a raw TypeError at out / "result.json")
     spec = result["spec"]
     _write_atomic(out / "result.json", json.dumps(result, sort_keys=True, indent=1))
     rows = []

@@ -694,3 +694,50 @@ def test_a_search_says_when_its_throws_were_stopped_in_play():
         warnings.simplefilter("error", AccuracyWarning)      # (the default duration: nothing cut off here)
         full = random_search(throws=8, seed=0)
     assert full.cut_off == 0 and not full.best_cut_off and full.best_bounces >= r.best_bounces
+
+
+def test_small_public_helpers_refuse_what_they_cannot_use(tmp_path, paper):
+    """(2026-12-07, a review of the optimize API) raw AttributeErrors, IndexErrors, ValueErrors and TypeErrors, or
+    silent answers, from the helpers a researcher calls on results: each is a ParameterError naming the argument."""
+    from jaxskip import initial_state
+    from optimize import distance, make_spec, plot_search, run_sweep
+    from optimize.sweep import plot_sweep, umin_resolution, write_results
+
+    r = random_search({"tilt": (10.0, 30.0)}, throws=4, config=SimConfig(duration=0.2))
+    for plot, result in ((plot_search, r), (plot_sweep, run_sweep(make_spec("umin", tilts=[20.0], iterations=1,
+                                                                               duration=0.3)))):
+        with pytest.raises(ParameterError, match=r"path must be a file path .* or a binary file object, got int"):
+            plot(result, 5)
+    with pytest.raises(ParameterError, match=r"its points and its 'bounces' must give one value per throw"):
+        top_throws([{"points": {"speed": [1.0, 2.0]}, "bounces": [1]}], 1)    # gave {'speed': [1.]}
+    with pytest.raises(ParameterError, match=r"history entry 1: 'points' must be a dict of the same parameters"):
+        top_throws([{"points": {"speed": [1.0]}, "bounces": [1]}, {"points": [1.0], "bounces": [1]}], 1)
+    throw = Throw.from_degrees()
+    with pytest.raises(ParameterError, match=r"state must be a jaxskip.StoneState, got NoneType"):
+        distance(None, throw, paper)
+    assert float(distance(initial_state(throw, paper), throw, paper)) < 1e-12
+    with pytest.raises(ParameterError, match=r"u must be finite"):
+        make_box().to_user(np.array([0.0, np.nan, 0.0, 0.0]))
+    with pytest.raises(ParameterError, match=r"speed_range is inverted"):
+        umin_resolution((8.0, 1.0), 3)                                        # was -0.097 m/s
+    with pytest.raises(ParameterError, match=r"speed_range must be a pair"):
+        umin_resolution("ab", 3)
+    sweep = run_sweep(make_spec("domain", tilts=[20.0], attacks=[20.0], duration=0.3))
+    write_results(sweep, str(tmp_path))                                         # a str folder: was a TypeError
+    assert (tmp_path / "result.csv").exists() and (tmp_path / "result.json").exists()
+
+
+def test_a_search_warns_at_the_users_call():
+    """(2026-12-07, a review) a search's stability and accuracy warnings named the search's own lines (or its
+    settings-recording wrapper's), whichever search ran: they name the caller's line now."""
+    from jaxskip import StabilityWarning
+
+    box, config = make_box({"speed": (30.0, 50.0)}), SimConfig(dt=0.002, duration=0.1)
+    for search in (random_search, local_search):
+        args = ({"speed": [40.0]},) if search is local_search else ()
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            search(box, *args, throws=2, config=config)
+        stability = [w for w in caught if issubclass(w.category, StabilityWarning)]
+        assert len(stability) == 1 and stability[0].filename == __file__, [(w.filename, w.lineno) for w in caught]
+        assert all(w.filename == __file__ for w in caught), [(w.filename, w.lineno) for w in caught]
