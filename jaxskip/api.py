@@ -182,7 +182,8 @@ class ThrowResult:
         Only the water takes energy from a real stone, so ``"total"`` should never rise. With the default
         ``velocity="body"`` it can: each face's force is computed from the centre of mass's velocity, and the
         lift's torque can pump a wobble (the default throw: 4.63 J at release, 7.98 J at the end; docs/model.md,
-        "The default free stone gains energy"; so does ``law="seed"``'s, 4.63 -> 5.61 J); with the tilt held or
+        "The default free stone gains energy"; so does ``law="seed"``'s, 4.63 J at release, 5.61 J at its peak, 5.42 J
+        when it flips); with the tilt held or
         ``velocity="local"`` or ``"passive"`` the water never adds energy: it falls in the water, and rises by
         up to ~1e-8 J in flight come from the split free rotation of an asymmetric stone (the paper stone at 65
         rev/s; :func:`jaxskip.simulate.free_rotation`). With a height field (``field``) the water's own energy is not included. With
