@@ -60,9 +60,9 @@ import jax
 import jax.numpy as jnp
 
 from jaxskip import RigidStone, SimConfig, StoneState, Throw, WaterParams
-from jaxskip._checks import ParameterError, check_positive
-from jaxskip.simulate import (Record, _check_concrete, _check_rollout_args, _one_float_type, _scan, initial_carry,
-                              initial_state, make_step, rollout)
+from jaxskip._checks import ParameterError, check_range
+from jaxskip.simulate import (MAX_BOUNCE_CLEARANCE, Record, _check_concrete, _check_rollout_args, _one_float_type,
+                              _scan, initial_carry, initial_state, make_step, rollout)
 
 #: Default clearance level [m]: the tracker's ``SimConfig.bounce_clearance``.
 CLEARANCE = 1e-3
@@ -70,11 +70,23 @@ CLEARANCE = 1e-3
 WIDTH = 2e-4
 
 
+#: Narrowest and widest sigmoid width [m]: below 1 nm the indicator is a step at float32's resolution of a
+#: height (a width of 1e-50 m, 0 in float32, gave NaN gradients), above 1 cm it no longer resolves a hop.
+WIDTH_RANGE = (1e-9, 0.01)
+
+
+def check_width(width) -> float:
+    """``width`` [m] in :data:`WIDTH_RANGE`, as a float (a :class:`~jaxskip.ParameterError` otherwise)."""
+    return check_range("width", width, *WIDTH_RANGE, unit="m")
+
+
 def _check_knobs(clearance, width) -> None:
-    """``clearance`` and ``width`` [m] must be > 0 (checked when concrete; traced values pass through)."""
-    for name, v in (("clearance", clearance), ("width", width)):
-        if not isinstance(v, jax.core.Tracer):
-            check_positive(name, v, unit="m")
+    """``clearance`` [m] in (0, :data:`jaxskip.simulate.MAX_BOUNCE_CLEARANCE`] (the tracker's range) and
+    ``width`` [m] in :data:`WIDTH_RANGE` (checked when concrete; traced values pass through)."""
+    if not isinstance(clearance, jax.core.Tracer):
+        check_range("clearance", clearance, 0.0, MAX_BOUNCE_CLEARANCE, unit="m", low_open=True)
+    if not isinstance(width, jax.core.Tracer):
+        check_width(width)
 
 
 def soft_bounce_count(records, clearance: float = CLEARANCE, width: float = WIDTH):
@@ -82,8 +94,8 @@ def soft_bounce_count(records, clearance: float = CLEARANCE, width: float = WIDT
 
     ``records``: the :class:`jaxskip.Record` of one throw's rollout (:func:`jaxskip.rollout` with
     ``config.record``), with a leading step axis of length T; read: ``time`` (T,) [s], ``gap`` (T,) [m]
-    and ``wetted_area`` (T,) [m^2] (for a batch, ``jax.vmap`` this function over it). Returns a scalar [-]. ``clearance`` [m]: the level the
-    lowest point must rise above (the tracker's ``bounce_clearance``); ``width`` [m]: the sigmoid's
+    and ``wetted_area`` (T,) [m^2] (for a batch, ``jax.vmap`` this function over it). Returns a scalar [-]. ``clearance`` [m], in (0, 0.01]: the level the
+    lowest point must rise above (the tracker's ``bounce_clearance``); ``width`` [m], in [1e-9, 0.01]: the sigmoid's
     width (the sharpening knob).
     Steps taken out of play repeat the time and are ignored.
     """
@@ -160,11 +172,12 @@ def make_objective(kind: str, config: SimConfig, stone: RigidStone, water: Water
     r"""Return ``f(throw) -> ()`` to maximise: ``"bounces"`` (smooth count) or ``"distance"`` [m].
 
     ``kind``: ``"bounces"`` (:math:`\tilde N`, :func:`soft_bounce_rollout`, with the clearance
-    ``config.bounce_clearance`` [m]) or ``"distance"`` (:func:`distance` [m] of the final state).
+    ``config.bounce_clearance`` [m]) or ``"distance"`` (:func:`distance` [m] of the final state; its gradient
+    lacks the sink time's own dependence on the throw, see :func:`jaxskip.rollout`).
     ``config``: a :class:`jaxskip.SimConfig` (the rollout: ``dt``, ``max_steps``, attitude, ...);
     ``stone``: a :class:`jaxskip.RigidStone` (:func:`jaxskip.rigid_stone`); ``water``: a
-    :class:`jaxskip.WaterParams` (:func:`jaxskip.water_params`). ``width`` [m], > 0: the soft
-    indicator's sigmoid width (default :data:`WIDTH`, 0.2 mm; the sharpening knob, see the module
+    :class:`jaxskip.WaterParams` (:func:`jaxskip.water_params`). ``width`` [m], in [1e-9, 0.01]
+    (:data:`WIDTH_RANGE`): the soft indicator's sigmoid width (default :data:`WIDTH`, 0.2 mm; the sharpening knob, see the module
     docstring). Bad arguments raise :class:`~jaxskip.ParameterError` here, before any tracing.
 
     ``f`` takes one :class:`jaxskip.Throw` (SI, shape ()) and returns a scalar (bounces [-] or

@@ -56,7 +56,7 @@ from jaxskip._checks import ParameterError, check_bool, check_int, check_positiv
 from jaxskip.api import checked_config, checked_water, resolve_stone
 
 from .bounds import LIMITS, PARAMETERS, Box, make_box, throw_in_box
-from .objectives import WIDTH, make_objective
+from .objectives import WIDTH, check_width, make_objective
 from ._runs import batch, caller_level, silenced_batches, warn_diverged, warn_stability
 
 
@@ -416,8 +416,9 @@ def gradient_search(box: Box | None = None, *, objective: str = "bounces", stone
     (seeded; an integer in [1, 4096], :data:`MAX_STARTS`), ``iterations`` Adam steps (an integer in
     [1, 10^5], :data:`MAX_ITERATIONS`) of ``learning_rate`` (in (0, 10], :data:`MAX_STEP`; in the unconstrained, dimensionless
     coordinates of the box), gradients clipped to global norm ``clip`` (> 0, same coordinates) per
-    start; a non-finite gradient is replaced by zero (and counted in the history). ``width`` [m], > 0:
-    the surrogate's sharpness knob (:mod:`optimize.objectives`).
+    start; a non-finite gradient is replaced by zero (and counted in the history). ``width`` [m], in
+    [1e-9, 0.01] (:data:`~optimize.objectives.WIDTH_RANGE`): the surrogate's sharpness knob
+    (:mod:`optimize.objectives`).
     ``initial``: a throw to start from, {parameter: value} in user units for every searched
     parameter (inside the box), and no other (a held parameter is refused, not dropped); it
     replaces the first start (with ``screen``, the last: the weakest screened throw picked, and then
@@ -490,7 +491,7 @@ def gradient_search(box: Box | None = None, *, objective: str = "bounces", stone
     check_range("polish_scale", polish_scale, 0.0, 1.0, low_open=True)
     check_range("learning_rate", learning_rate, 0.0, MAX_STEP, low_open=True)
     check_positive("clip", clip)
-    check_positive("width", width, unit="m")
+    check_width(width)
     rigid, _ = resolve_stone(stone)
     water = water_params(config.force.law) if water is None else checked_water(water)
     if horizon is not None:

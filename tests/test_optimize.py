@@ -508,6 +508,16 @@ def test_make_objective_refuses_wrong_types(paper, water):
         args = dict(config=SimConfig(), stone=paper, water=water) | kwargs
         with pytest.raises(ParameterError, match=name):
             make_objective("bounces", **args)
+    # (2026-12-07, a review) the knobs' ranges: a width of 1e-50 m is 0 in float32 (NaN gradients), a clearance
+    # of 1 km scored every throw 0; the tracker's clearance is at most 1 cm
+    config = SimConfig(max_steps=50)
+    for call, said in ((lambda: make_objective("bounces", config, paper, water, width=1e-50), r"width must be in \[1e-09"),
+                       (lambda: make_objective("bounces", config, paper, water, width=0.5), r"width must be in \[1e-09"),
+                       (lambda: soft_bounce_rollout(config, Throw.from_degrees(), paper, water, clearance=1e3),
+                        r"clearance must be in \(0, 0.01\] m"),
+                       (lambda: gradient_search(config=config, width=1e-50), r"width must be in \[1e-09")):
+        with pytest.raises(ParameterError, match=said):
+            call()
 
 
 def test_the_bounce_objective_checks_and_casts_as_rollout_does(paper, water):
