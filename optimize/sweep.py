@@ -304,6 +304,12 @@ def make_spec(kind: str, *, tilts, attacks=(REFERENCE["attack"],), speed: float 
     for name in ("c_lift", "c_friction"):
         if sim[name] is not None and float(sim[name]) == DEFAULT_COEFFICIENTS[config.force.law][name]:
             sim[name] = None
+    # so is a mass or density that makes the stone's own mass (a mass copied from spec.json's config was
+    # refused as another sweep, "it has mass=None")
+    if sim["mass"] is not None or sim["density"] is not None:
+        own = simulation(**{**sim, "mass": None, "density": None})[2]
+        if float(own.mass) == float(rigid.mass):
+            sim.update(mass=None, density=None)
     # an .obj stone is pinned by its contents too: a resume (or a shard) with another file at that path
     # would mix two stones' results
     mesh_file = {}

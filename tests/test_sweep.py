@@ -567,6 +567,12 @@ def test_a_coefficient_given_at_its_default_is_the_same_sweep(tmp_path):
     assert make_spec("domain", force_law="seed", c_friction=0.1, **settings).c_friction is None
     with pytest.raises(ParameterError, match="holds a different sweep"):
         run_sweep(make_spec("domain", c_lift=1.1, **settings), tmp_path / "s")
+    # (2026-12-07, a review) so is a mass or density that makes the stone's own mass: spec.json's config.mass
+    # given back, or the aluminium's 2700 kg/m^3; another mass is another sweep
+    own = plain.config["mass"]
+    for given in (dict(mass=own), dict(density=2700.0)):
+        assert make_spec("domain", **settings, **given) == plain, given
+    assert make_spec("domain", **settings, mass=own * 1.01).mass == pytest.approx(own * 1.01)
 
 
 def test_chunks_without_their_spec_file_are_refused(tmp_path):
