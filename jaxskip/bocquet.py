@@ -16,6 +16,17 @@ depth :math:`s = |z|/\sin\theta` (physics.md §2). Between contacts the stone fl
 parabola and lands with the vertical speed it left with, so the model is a map from one
 contact to the next; each contact is integrated with a fixed fine step (semi-implicit Euler)
 inside a fixed-length ``lax.scan`` with an alive mask, so it jits, vmaps and differentiates.
+The stone sinks when its whole face goes under (the trailing edge :math:`a\sin\theta` deep, :math:`2R\sin\theta`
+for the disk): Bocquet's condition for a bounce, that the stone is not completely immersed, which sets his
+minimal speed (:math:`\sqrt{4Mg/(C\rho_w a^2)}` for a square entering at grazing incidence: 0.70 m/s for his
+0.1 m, 0.1 kg square at 10°). Until 2026-12-07 the wetted area was capped at the whole face and the contact
+went on, so a stone whose face went under could still bounce (a review); every result says how its throw
+ended (:data:`OUTCOMES`). With the rule, Clanet's disk at 20° of attack (C_l = 1, C_f = 0.3) has its lowest
+minimal speed near 5° of tilt (1.0 m/s; 2.0 m/s at 20°, none at 2° and below, where the face is under at a
+depth of a few millimetres), lower than the mesh's 14° (the plate has no thickness and feels only
+:math:`V_x^2`); Bocquet's square at 10° needs 2.6-5 m/s (3.6 at 1° of attack), above physics.md's
+0.3-0.7 m/s, because in a slow contact friction takes metres per second of :math:`V_x`, which his estimate
+holds constant (measured 2026-12-07).
 
 Consequences (tested): for the square, immersed motion is harmonic with
 :math:`\omega^2 = C\rho_w V_x^2 a/(2M\sin\theta)` about the depth :math:`-g/\omega^2` where lift
@@ -70,6 +81,21 @@ and excludes only tilts within :math:`10^{-4} C_l/\\tilde C \\le 10^{-4}` rad (0
 where no stone skips anyway: the speed a fully immersed square needs to carry its weight,
 :math:`\\sqrt{2Mg/(C\\rho_w a^2)}`, is 44 m/s for Bocquet's 0.1 m, 0.1 kg square at the floor."""
 
+OUTCOMES = ("sank", "cut_off", "stopped", "max_contacts")
+"""How a reduced throw ended, by :attr:`ReducedResult.outcome`: ``"sank"`` (its whole face went under water, or
+the tilt leaves no net lift), ``"cut_off"`` (a contact still going after ``contact_steps`` steps: its time,
+length and impulses are NaN, the distance counts it up to the cut, a lower bound), ``"stopped"`` (the water
+stopped it in a contact) and ``"max_contacts"`` (still bouncing after ``max_contacts`` contacts: the count and
+the distance are lower bounds)."""
+
+SIZE_RANGE = (1e-3, 10.0)
+"""Accepted :attr:`ReducedStone.size` [m]: 1 mm (the mesh stones' smallest) to 10 m (a water-ski board's scale)."""
+MASS_RANGE = (1e-6, 1e4)
+"""Accepted :attr:`ReducedStone.mass` [kg]: 1 mg to 10 t."""
+MAX_DT = 1e-3
+"""Largest accepted contact step ``dt`` [s] of :func:`reduced_throw`: a contact lasts milliseconds (Clanet's
+disk at 3.5 m/s: ~20 ms); at 0.1 s the integration ran backwards (a distance of -81 m)."""
+
 RHO_RANGE = _forces.RHO_RANGE
 """Accepted water density [kg/m^3]: [10, 20000], as :func:`jaxskip.water_params`."""
 G_RANGE = _forces.GRAVITY_RANGE
@@ -97,7 +123,7 @@ def _batch(name: str, value, low: float, high: float, *, unit: str = "", low_ope
 
 def _constants(c_lift, c_friction, rho, g=None) -> tuple:
     """The water's constants checked against :func:`jaxskip.water_params`' ranges (floats)."""
-    out = (_scalar("c_lift", c_lift, 0.0, COEFFICIENT_MAX, unit="[-]"),
+    out = (_scalar("c_lift", c_lift, 0.0, COEFFICIENT_MAX, unit="[-]", low_open=True),   # (0: no lift at all)
            _scalar("c_friction", c_friction, 0.0, COEFFICIENT_MAX, unit="[-]"),
            _scalar("rho", rho, *RHO_RANGE, unit="kg/m^3"))
     return out if g is None else out + (_scalar("g", g, *G_RANGE, unit="m/s^2"),)
@@ -129,9 +155,11 @@ def _check_stone(stone) -> "ReducedStone":
 @document_fields
 @dataclasses.dataclass(frozen=True)
 class ReducedStone:
-    """A flat stone for the reduced model (static, hashable). SI units.
+    """A flat stone for the reduced model (static, hashable: a pytree with no leaves, so it passes through
+    ``jax.jit``). SI units.
 
-    ``size`` and ``mass`` are checked (real numbers > 0; not strings or bools) and stored as floats.
+    ``size`` and ``mass`` are checked (real numbers in :data:`SIZE_RANGE` and :data:`MASS_RANGE`; not strings
+    or bools) and stored as floats.
 
     >>> ReducedStone("disk", 0.025, 0.0135).size
     0.025
@@ -140,14 +168,23 @@ class ReducedStone:
     shape: str = "square"
     """``"square"`` (side ``size``) or ``"disk"`` (radius ``size``)."""
     size: float = 0.1
-    """Side [m] of the square, or radius [m] of the disk, > 0. Bocquet's example: a 0.1 m square."""
+    """Side [m] of the square, or radius [m] of the disk, in [0.001, 10]. Bocquet's example: a 0.1 m square."""
     mass: float = 0.1
-    """Mass M [kg], > 0. Bocquet's example: 0.1 kg."""
+    """Mass M [kg], in [1e-6, 1e4]. Bocquet's example: 0.1 kg."""
 
     def __post_init__(self):
         check_choice("shape", self.shape, SHAPES)
-        object.__setattr__(self, "size", _scalar("size", self.size, 0.0, math.inf, unit="m", low_open=True))
-        object.__setattr__(self, "mass", _scalar("mass", self.mass, 0.0, math.inf, unit="kg", low_open=True))
+        # (unbounded, a size of 1e300 m gave a distance of -8e291 m and a mass of 5e-324 kg NaN, with 0 bounces)
+        object.__setattr__(self, "size", _scalar("size", self.size, *SIZE_RANGE, unit="m"))
+        object.__setattr__(self, "mass", _scalar("mass", self.mass, *MASS_RANGE, unit="kg"))
+
+    @property
+    def face_length(self) -> float:
+        """Length [m] of the face along the tilt: the side ``size`` of the square, the diameter of the disk."""
+        return self.size if self.shape == "square" else 2.0 * self.size
+
+
+jax.tree_util.register_static(ReducedStone)   # (jax.jit(reduced_throw) met a raw TypeError for the stone)
 
 
 @document_fields
@@ -161,17 +198,22 @@ class ReducedResult:
     bounces: jax.Array
     """() int: contacts the stone left again."""
     distance: jax.Array
-    """() downrange distance [m] from the first touch to where the stone stopped or sank."""
+    """() downrange distance [m] from the first touch to where the stone sank or stopped (a lower bound when
+    ``outcome`` is ``cut_off`` or ``max_contacts``)."""
     contact_time: jax.Array
-    """(K,) duration of each contact [s] (NaN after the last)."""
+    """(K,) duration of each contact [s] (NaN after the last, and for a contact cut off)."""
     contact_length: jax.Array
-    """(K,) distance travelled during each contact [m] (NaN after the last)."""
+    """(K,) distance travelled during each contact [m] (NaN after the last, and for a contact cut off)."""
     vx_in: jax.Array
     """(K,) horizontal speed at the start of each contact [m/s] (NaN after the last)."""
     impulse_x: jax.Array
-    """(K,) horizontal impulse of the water per unit mass in each contact [m/s] (NaN after the last)."""
+    """(K,) horizontal impulse of the water per unit mass in each contact [m/s] (NaN after the last, and for a
+    contact cut off)."""
     impulse_z: jax.Array
-    """(K,) vertical impulse of the water per unit mass in each contact [m/s] (NaN after the last)."""
+    """(K,) vertical impulse of the water per unit mass in each contact [m/s] (NaN after the last, and for a
+    contact cut off)."""
+    outcome: jax.Array
+    """() int: how the throw ended, an index into :data:`OUTCOMES` (``OUTCOMES[int(r.outcome)]``)."""
 
 
 def immersed_area(stone: ReducedStone, depth, tilt):
@@ -244,7 +286,8 @@ def collision_length(stone: ReducedStone, tilt, c_lift=1.0, c_friction=1.0, rho=
 
 
 def estimated_bounces(speed, stone: ReducedStone, tilt, c_lift=1.0, c_friction=1.0, rho=1000.0, g=9.81):
-    """Bocquet's V² law for a square's bounce count: :math:`N \\approx V^2/(4\\mu g L)`, :math:`\\mu = \\tilde C/C`,
+    """An upper bound on a square's bounce count after Bocquet's V² argument (this module's bound; physics.md §3's
+    formula is twice it): :math:`N \\approx V^2/(4\\mu g L)`, :math:`\\mu = \\tilde C/C`,
     :math:`L` the :func:`collision_length`: the kinetic energy over the least a contact costs, :math:`2\\mu M g L`
     at grazing incidence (a contact of length :math:`2L`; module docstring). An upper bound: a contact entered
     at vertical speed :math:`u` costs :math:`\\mu M V (g\\tau + 2u)`, more (:func:`reduced_throw` makes at most
@@ -252,7 +295,8 @@ def estimated_bounces(speed, stone: ReducedStone, tilt, c_lift=1.0, c_friction=1
 
     Parameters
     ----------
-    speed : horizontal speed at the first touch [m/s], in (0, 100]; a number or an array of them.
+    speed : horizontal speed at the first touch [m/s], in (0, 100]; a number or an array of them (note:
+        :func:`reduced_throw` takes the whole speed, ``speed * cos(attack)`` of it horizontal).
     stone, tilt, c_lift, c_friction, rho : as :func:`collision_length` (``tilt`` [rad]).
     g : gravitational acceleration [m/s^2], in [0.01, 100].
 
@@ -261,7 +305,7 @@ def estimated_bounces(speed, stone: ReducedStone, tilt, c_lift=1.0, c_friction=1
     The estimated bounce count [-], not rounded: a float for a number ``speed``, else a float64 NumPy
     array of ``speed``'s shape.
 
-    >>> round(estimated_bounces(12.0, ReducedStone(), math.radians(10.0)), 1)   # physics.md: 38 at ~12 m/s
+    >>> round(estimated_bounces(12.0, ReducedStone(), math.radians(10.0)), 1)   # the record, 38, is quoted at ~12 m/s
     39.5
     """
     v = _batch("speed", speed, 0.0, MAX_SPEED, unit="m/s", low_open=True)
@@ -276,7 +320,7 @@ def estimated_bounces(speed, stone: ReducedStone, tilt, c_lift=1.0, c_friction=1
 
 
 def reduced_throw(speed, tilt, attack, stone: ReducedStone | None = None, *, c_lift=1.0, c_friction=1.0,
-                  rho=1000.0, g=9.81, dt=2e-5, contact_steps=5000, max_contacts=64) -> ReducedResult:
+                  rho=1000.0, g=9.81, dt=2e-5, contact_steps=20000, max_contacts=64) -> ReducedResult:
     """Skip a flat stone with Bocquet's reduced model; jit/vmap/grad-able in ``speed``, ``tilt``, ``attack``.
 
     Parameters
@@ -287,11 +331,19 @@ def reduced_throw(speed, tilt, attack, stone: ReducedStone | None = None, *, c_l
         :math:`\\arctan(C_l/C_f)`: 45° for C_l = C_f = 1, 73° for the library's 1 and 0.3.
     attack : angle of the velocity below the horizontal [rad], in [0, π/2).
     stone : :class:`ReducedStone`; default Bocquet's 0.1 m, 0.1 kg square.
-    c_lift, c_friction : C_l, C_f [-], in [0, 10] (Bocquet's example: 1, 1).
+    c_lift, c_friction : C_l in (0, 10], C_f in [0, 10] [-] (Bocquet's example: 1, 1).
     rho : water density [kg/m^3], in [10, 20000]; ``g``: gravity [m/s^2], in [0.01, 100].
-    dt : contact time step [s] (> 0); ``contact_steps``: steps per contact before it counts as sunk,
-        an integer in [1, 10^7] (``dt * contact_steps`` = 0.1 s by default); ``max_contacts``: contacts
-        simulated (K), an integer in [1, 10^5].
+    dt : contact time step [s], in (0, 1e-3] (:data:`MAX_DT`); ``contact_steps``: steps a contact may last,
+        an integer in [1, 10^7] (``dt * contact_steps`` = 0.4 s by default; a contact still going then ends
+        the throw, outcome ``"cut_off"``: 0.1 s, the default until 2026-12-07, cut off the last contact of
+        Bocquet's square at 4-12 m/s, 10° of tilt, 1° of attack, and its distance 0.2 m short);
+        ``max_contacts``: contacts simulated (K), an integer in [1, 10^5]
+        (a throw still bouncing after them ends with outcome ``"max_contacts"``).
+
+    A contact ends when the stone leaves the water (a bounce), when its whole face is under water (it sinks,
+    Bocquet's condition), or when the water has stopped it. A contact entered at exactly zero attack
+    (``attack=0``) starts with no lift and no vertical speed: the stone goes under and, slowed in the water,
+    does not come out (0 bounces; 5 at 0.05° for Bocquet's square at 12 m/s).
 
     ``speed``, ``tilt`` and ``attack`` are numbers or arrays; arrays broadcast together to a batch
     shape B, and every field of the :class:`ReducedResult` gets B as leading axes (``jax.vmap`` over
@@ -313,7 +365,7 @@ def reduced_throw(speed, tilt, attack, stone: ReducedStone | None = None, *, c_l
     if not isinstance(tilt, jax.core.Tracer):
         _check_tilt(tilt, c_lift, c_friction)
     _batch("attack", attack, 0.0, math.pi / 2, unit="rad (convert degrees with math.radians)", high_open=True)
-    dt = _scalar("dt", dt, 0.0, math.inf, unit="s", low_open=True)
+    dt = _scalar("dt", dt, 0.0, MAX_DT, unit="s", low_open=True)
     contact_steps = check_int("contact_steps", contact_steps, minimum=1, maximum=10_000_000)
     max_contacts = check_int("max_contacts", max_contacts, minimum=1, maximum=100_000)
 
@@ -331,40 +383,49 @@ def _throw(speed, tilt, attack, stone, c_lift, c_friction, rho, g, dt, contact_s
     """One throw of :func:`reduced_throw` (scalars ``speed``, ``tilt`` [rad], ``attack`` [rad]; checked constants)."""
     C, Ct = coefficients(tilt, c_lift, c_friction)
     k = 0.5 * rho / stone.mass
+    under = stone.face_length * jnp.sin(tilt)    # the trailing edge's depth [m] when the whole face is under
 
     def contact(vx, vz):
-        """One contact from the surface (z = 0, vz < 0): fixed steps, alive while immersed."""
+        """One contact from the surface (z = 0, vz < 0): fixed steps, alive while immersed and not sunk."""
         def body(c, _):
-            z, vx, vz, t, x, ix, iz, inside = c
+            z, vx, vz, t, x, ix, iz, inside, sank = c
             S = immersed_area(stone, -z, tilt)
             ax = -k * Ct * vx * vx * S
             az = -g + k * C * vx * vx * S
             vx1, vz1 = vx + ax * dt, vz + az * dt
             z1 = z + vz1 * dt
             keep = lambda new, old: jnp.where(inside, new, old)  # noqa: E731
+            sinks = inside & (-z1 >= under)
             return (keep(z1, z), keep(vx1, vx), keep(vz1, vz), keep(t + dt, t), keep(x + vx1 * dt, x),
-                    keep(ix + ax * dt, ix), keep(iz + (az + g) * dt, iz), inside & (z1 < 0.0)), None
+                    keep(ix + ax * dt, ix), keep(iz + (az + g) * dt, iz), inside & (z1 < 0.0) & ~sinks,
+                    sank | sinks), None
 
         zero = 0.0 * vx
-        init = (zero, vx, vz, zero, zero, zero, zero, jnp.asarray(True))
-        (z, vx, vz, t, x, ix, iz, inside), _ = jax.lax.scan(body, init, None, length=contact_steps)
-        return vx, vz, t, x, ix, iz, ~inside & (vx > 0.0)
+        init = (zero, vx, vz, zero, zero, zero, zero, jnp.asarray(True), jnp.asarray(False))
+        (z, vx, vz, t, x, ix, iz, inside, sank), _ = jax.lax.scan(body, init, None, length=contact_steps)
+        return vx, vz, t, x, ix, iz, ~inside & ~sank & (vx > 0.0), sank, inside
 
     def one(carry, _):
-        vx, vz, alive, n, dist = carry
-        vx1, vz1, t, x, ix, iz, left = contact(vx, vz)
+        vx, vz, alive, n, dist, outcome = carry
+        vx1, vz1, t, x, ix, iz, left, sank, cut = contact(vx, vz)
         nan = jnp.full_like(vx, jnp.nan)   # (not nan * vx: its zero cotangent times NaN made every gradient NaN)
-        row = (jnp.where(alive, t, nan), jnp.where(alive, x, nan), jnp.where(alive, vx, nan),
-               jnp.where(alive, ix, nan), jnp.where(alive, iz, nan))
+        ended = alive & ~cut      # a contact cut off has no duration, length or impulse
+        row = (jnp.where(ended, t, nan), jnp.where(ended, x, nan), jnp.where(alive, vx, nan),
+               jnp.where(ended, ix, nan), jnp.where(ended, iz, nan))
         bounced = alive & left
         flight = jnp.where(bounced, 2.0 * vz1 / g, 0.0)        # lands with the vertical speed it left with
         dist = dist + jnp.where(alive, x, 0.0) + jnp.where(bounced, vx1 * flight, 0.0)
+        why = jnp.where(sank, OUTCOMES.index("sank"), jnp.where(cut, OUTCOMES.index("cut_off"),
+                                                                 OUTCOMES.index("stopped")))
+        outcome = jnp.where(alive & ~left, why, outcome)
         return (jnp.where(bounced, vx1, vx), jnp.where(bounced, -vz1, vz), bounced,
-                n + bounced.astype(jnp.int32), dist), row
+                n + bounced.astype(jnp.int32), dist, outcome), row
 
     vx0 = speed * jnp.cos(attack)
     vz0 = -speed * jnp.sin(attack)
-    init = (vx0, vz0, C > 0.0, jnp.asarray(0, jnp.int32), 0.0 * vx0)
-    (_, _, _, n, dist), rows = jax.lax.scan(one, init, None, length=max_contacts)
+    lift = C > 0.0
+    first = jnp.where(lift, OUTCOMES.index("max_contacts"), OUTCOMES.index("sank")).astype(jnp.int32)
+    init = (vx0, vz0, lift, jnp.asarray(0, jnp.int32), 0.0 * vx0, first)
+    (_, _, _, n, dist, outcome), rows = jax.lax.scan(one, init, None, length=max_contacts)
     return ReducedResult(bounces=n, distance=dist, contact_time=rows[0], contact_length=rows[1], vx_in=rows[2],
-                         impulse_x=rows[3], impulse_z=rows[4])
+                         impulse_x=rows[3], impulse_z=rows[4], outcome=outcome)

@@ -109,7 +109,8 @@ class ForceModel:
     """``"bocquet"`` (default: lift along the normal, friction along the face) or ``"seed"``
     (Do, Lee & Ryu eqs. 1-2). The seed law's drag vanishes as a face lines up with the flow,
     so a planing stone barely slows and no magic angle appears; Bocquet's law reproduces
-    the magic angle and N ~ V^2 (docs/model.md, "Calibration")."""
+    the magic angle and N ~ V^2 at grazing attack (~1-2°; the exponent depends on the attack: docs/model.md,
+    "Calibration")."""
     faces: str = "leading"
     """``"leading"``: only immersed faces moving into the water are loaded; ``"all"``: every immersed face."""
     velocity: str = "body"

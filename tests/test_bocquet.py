@@ -247,3 +247,67 @@ def test_reduced_gradients_match_finite_differences_for_the_disk_and_per_contact
     assert float(d_depth) == 0.0
     assert all(math.isfinite(float(g)) for g in jax.grad(lambda z, t: immersed_area(disk, z, t), argnums=(0, 1))(
         2.0 * 0.025 * math.sin(0.3), 0.3))
+
+
+def test_a_stone_whose_face_goes_under_sinks():
+    """(2026-12-07, a review) Bocquet's condition for a bounce is that the stone is not completely immersed; the
+    model capped the wetted area at the whole face and went on, so a disk at 2° of tilt, whose face is under at a
+    depth of 1.7 mm, bounced from 1.25 m/s at 20° of attack. It sinks now, and the minimal speed has a minimum
+    between the tilts that dive under and the steep ones that need speed to lift."""
+    from jaxskip.bocquet import OUTCOMES
+
+    disk = ReducedStone("disk", 0.025, 0.014485)
+    V = jnp.linspace(0.25, 15.0, 60)
+
+    def umin(tilt):
+        b = np.asarray(reduced_throw(V, math.radians(tilt), math.radians(20.0), disk, c_friction=0.3,
+                                     max_contacts=2).bounces)
+        return float(V[np.argmax(b > 0)]) if (b > 0).any() else math.inf
+
+    low, best, steep = umin(2.0), umin(5.0), umin(20.0)
+    assert low == math.inf and best < steep, (low, best, steep)       # measured: none, 1.0, 2.0 m/s
+    r = reduced_throw(jnp.array([1.5, 3.0]), math.radians(2.0), math.radians(20.0), disk, c_friction=0.3)
+    assert np.asarray(r.bounces).tolist() == [0, 0] and [OUTCOMES[int(o)] for o in r.outcome] == ["sank", "sank"]
+
+
+def test_every_reduced_throw_says_how_it_ended():
+    """(2026-12-07, a review) a contact still going after contact_steps counted as sunk, its time reported as the cap
+    (0.1 s by default then, which cut the last contact of Bocquet's square at 4-12 m/s short, 0.2 m of distance),
+    and running out of max_contacts was silent. The outcome says which; a cut contact has no time or length."""
+    from jaxskip.bocquet import OUTCOMES
+
+    V, th, att = jnp.array([4.0, 8.0, 12.0]), math.radians(10.0), math.radians(1.0)
+    r = reduced_throw(V, th, att)
+    longer = reduced_throw(V, th, att, contact_steps=50_000)
+    assert [OUTCOMES[int(o)] for o in r.outcome] == ["sank"] * 3
+    np.testing.assert_allclose(np.asarray(r.distance), np.asarray(longer.distance), rtol=1e-12)   # converged
+    cut = reduced_throw(V, th, att, contact_steps=5000)
+    assert [OUTCOMES[int(o)] for o in cut.outcome] == ["cut_off"] * 3
+    last = np.asarray(cut.bounces)      # the contact after the last bounce was cut: no duration, no length
+    assert all(np.isnan(np.asarray(cut.contact_time)[i, n]) and np.isnan(np.asarray(cut.contact_length)[i, n])
+               for i, n in enumerate(last))
+    assert np.all(np.asarray(cut.distance) < np.asarray(r.distance))      # a lower bound
+    few = reduced_throw(12.0, th, att, max_contacts=4)
+    assert OUTCOMES[int(few.outcome)] == "max_contacts" and int(few.bounces) == 4
+
+
+@pytest.mark.parametrize("call, said", [
+    (lambda: reduced_throw(8.0, 0.2, 0.02, dt=0.1), r"dt must be finite and in \(0, 0.001\] s"),   # -81 m
+    (lambda: ReducedStone("square", 1e300, 0.1), r"size must be finite and in \[0.001, 10\] m"),   # -8e291 m
+    (lambda: ReducedStone("disk", 0.025, 5e-324), r"mass must be finite and in \[1e-06, 10000\] kg"),   # NaN
+    (lambda: reduced_throw(8.0, 0.2, 0.05, c_lift=0.0, c_friction=0.0), r"c_lift must be finite and in \(0, 10\]"),
+])
+def test_reduced_inputs_out_of_range_are_refused(call, said):
+    """(2026-12-07, a review) each ran on to a negative or NaN distance with 0 bounces, or (c_lift 0) blamed the
+    tilt."""
+    with pytest.raises(ParameterError, match=said):
+        call()
+
+
+def test_reduced_throw_jits_with_its_stone():
+    """A ReducedStone is a static pytree: jax.jit(reduced_throw) takes it (a raw TypeError before)."""
+    stone = ReducedStone("disk", 0.025, 0.0145)
+    f = jax.jit(reduced_throw, static_argnames=("max_contacts",))
+    r = f(8.0, math.radians(20.0), math.radians(5.0), stone, max_contacts=8)
+    plain = reduced_throw(8.0, math.radians(20.0), math.radians(5.0), stone, max_contacts=8)
+    assert int(r.bounces) == int(plain.bounces) > 0
