@@ -66,7 +66,9 @@ def _carry(x, v, q, w, tau, stone, g):
 def frames(result, fps: float = 60.0) -> dict:
     """The throw of ``result`` (:func:`jaxskip.simulate`) sampled every ``1 / fps`` s from release.
 
-    ``fps`` [1/s] in (0, 10000]. Frames run from 0 to the last simulated step. Returns host arrays:
+    ``fps`` [1/s] in (0, 10000]. Frames run from 0 to the last simulated step: when that step falls between
+    two frames it is added as the last frame (a trajectory ended up to a frame early: a stone that sank was
+    last seen above its plunge, a run shorter than a frame was a single row). Returns host arrays:
     ``time`` (M,) [s], ``position`` (M, 3) [m] (centre of mass), ``orientation`` (M, 4) [-] (unit
     quaternion (w, x, y, z), body to world), ``velocity`` (M, 3) [m/s], ``in_water`` (M,) bool (the
     step the frame falls in had a wet triangle). With ``attitude="fixed"`` the attitude is held, as
@@ -87,6 +89,8 @@ def frames(result, fps: float = 60.0) -> dict:
     traj = result.trajectory
     t = np.asarray(traj["time"], dtype=np.float64)
     times = np.arange(int(math.floor(t[-1] * fps + 1e-9)) + 1) / fps
+    if t[-1] - times[-1] > 1e-9:   # the last simulated step, between frames
+        times = np.append(times, t[-1])
     # the step each frame falls in (a frame within 1 ns of a step's start, as rounding leaves it, takes that step)
     i = np.clip(np.searchsorted(t, times + 1e-9, side="right") - 1, 0, len(t) - 1)
     m = len(times)
@@ -315,6 +319,12 @@ def write_trajectory(result, path, fps: float = 60.0, mesh: TriMesh | None = Non
         warnings.warn("this throw diverged (outcome 'diverged': the contact step was too long for it): the trajectory "
                       "written is not a motion; take a smaller dt", DivergedWarning, stacklevel=2)
     f = frames(result, fps)
+    turn = spin_per_frame(result, fps)
+    if turn > math.pi:   # (the default throw turned up to 296 deg between frames at 60 frames/s, in silence)
+        warnings.warn(f"the stone turns up to {math.degrees(turn):.0f} deg between frames at {fps:g} frames/s: a tool "
+                      "that interpolates between keyframes turns it the short way, backwards; give fps >= "
+                      f"{math.ceil(fps * turn / (math.pi / 2)):d} for at most a quarter turn a frame",
+                      UserWarning, stacklevel=2)
     t = result.throw
     about = (f"jaxskip trajectory {os.path.basename(path)}: {result.stone_name} stone of {result.mass * 1e3:.1f} g "
              f"in its body frame (centre of mass, principal axes); speed {float(t.speed):g} m/s, tilt "
@@ -352,13 +362,32 @@ def write_trajectory(result, path, fps: float = 60.0, mesh: TriMesh | None = Non
            "stone_obj": os.path.basename(obj),
            **({"mesh_frame": {"center_of_mass": placed[0].tolist(), "rotation": _quaternion(placed[1].T).tolist(),
                               "units": {"center_of_mass": "m", "rotation": "-"}}} if placed is not None else {}),
-           **({"water": {k: v for k, v in result.field.items() if k != "frames"}} if result.field else {}),
-           "frames": {**{k: table[:, c].tolist() for c, k in enumerate(keys)},
+           **({"water": {**{k: v for k, v in result.field.items() if k != "frames"}, "units": WATER_UNITS}}
+              if result.field else {}),
+           # (NaN, a diverged throw's, as null: strict JSON has no NaN, and JSON.parse refused the file)
+           "frames": {**{k: [None if math.isnan(v) else v for v in table[:, c].tolist()] for c, k in enumerate(keys)},
                       "in_water": f["in_water"].tolist()}}
     with writing(path), open(path, "w") as fh:
-        json.dump(out, fh)
+        json.dump(out, fh, allow_nan=False)
     return obj
 
 
-__all__ = ["COLUMNS", "MAX_FPS", "STONE_HEADER", "STONE_SUFFIX", "body_mesh", "check_stone_file", "frames", "mesh_frame",
-           "stone_path", "write_trajectory"]
+#: Units of a trajectory JSON's ``"water"`` entries (the keys :attr:`jaxskip.ThrowResult.field` has).
+WATER_UNITS = {"shape": "columns", "spacing": "m", "depth": "m", "time_step": "s", "substeps": "-", "clamp": "-",
+               "boundary": "-", "volume_change": "-"}
+
+
+def spin_per_frame(result, fps: float) -> float:
+    """The largest angle [rad] the stone of ``result`` turns between two frames at ``fps`` [1/s]: the largest
+    angular speed of its trajectory over ``fps`` (0 with the tilt held, where the stone does not turn). Above
+    π a tool that interpolates between keyframes turns it the wrong way (:func:`write_trajectory` warns)."""
+    _check_result(result)
+    if result.config.attitude == "fixed":
+        return 0.0
+    w = np.asarray(result.trajectory["angular_velocity"], dtype=np.float64)
+    speed = np.sqrt(np.sum(w * w, axis=-1))
+    return float(np.max(speed[np.isfinite(speed)], initial=0.0)) / fps
+
+
+__all__ = ["COLUMNS", "MAX_FPS", "STONE_HEADER", "STONE_SUFFIX", "WATER_UNITS", "body_mesh", "check_stone_file", "frames",
+           "mesh_frame", "spin_per_frame", "stone_path", "write_trajectory"]

@@ -60,8 +60,12 @@ def test_frames_inside_long_jumps():
 def test_frames_are_evenly_spaced_unit_quaternions_and_flag_the_contacts(default_throw):
     f = frames(default_throw, fps=60.0)
     t_last = default_throw.trajectory["time"][-1]
-    assert len(f["time"]) == int(np.floor(t_last * 60.0)) + 1
-    np.testing.assert_allclose(np.diff(f["time"]), 1 / 60.0, rtol=1e-12)
+    # every 1/60 s, and the last simulated step as the last frame (2026-12-07, a review: the file ended up to a
+    # frame early, a stone that sank last seen above its plunge)
+    assert len(f["time"]) == int(np.floor(t_last * 60.0)) + 2 and f["time"][-1] == t_last
+    np.testing.assert_allclose(np.diff(f["time"][:-1]), 1 / 60.0, rtol=1e-12)
+    assert 0 < f["time"][-1] - f["time"][-2] < 1 / 60.0
+    np.testing.assert_allclose(f["position"][-1], default_throw.trajectory["position"][-1], atol=1e-12)
     np.testing.assert_allclose(np.linalg.norm(f["orientation"], axis=1), 1.0, atol=1e-12)
     np.testing.assert_allclose(f["position"][0], default_throw.trajectory["position"][0], atol=0)
     c = default_throw.contacts
@@ -313,3 +317,29 @@ def test_the_mesh_frame_drives_your_own_mesh(tmp_path):
     np.testing.assert_allclose(saved["rotation"], m["rotation"], rtol=0, atol=1e-15)
     with pytest.raises(ParameterError, match="is not the stone this throw was simulated with"):
         mesh_frame(r, irregular_pebble(seed=3))
+
+
+def test_trajectory_json_is_strict_and_says_its_spin_and_units(default_throw, tmp_path):
+    """(2026-12-07, a review) a NaN (a diverged throw's) was written as a bare NaN token, which strict parsers
+    (JavaScript's JSON.parse) refuse: it is null now; spin_per_frame says how far the stone turns between frames
+    (the default throw: ~490 deg at 60 frames/s, which write_trajectory warns of); the water entries have units."""
+    import dataclasses
+    import json
+    import math
+    import warnings
+
+    from jaxskip.export import WATER_UNITS, spin_per_frame
+
+    assert math.degrees(spin_per_frame(default_throw, 60.0)) == pytest.approx(488, abs=5)
+    traj = dict(default_throw.trajectory)
+    traj["position"] = np.asarray(traj["position"]).copy()
+    traj["position"][5:] = np.nan
+    broken = dataclasses.replace(default_throw, trajectory=traj)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        write_trajectory(broken, tmp_path / "t.json", fps=400.0)
+    assert not [w for w in caught if "between frames" in str(w.message)]     # 400 frames/s shows the spin
+    text = (tmp_path / "t.json").read_text()
+    data = json.loads(text, parse_constant=lambda c: pytest.fail(f"bare {c} in the JSON"))
+    assert None in data["frames"]["x"] and "NaN" not in text
+    assert set(WATER_UNITS) >= {"shape", "spacing", "depth", "time_step", "volume_change"}
