@@ -101,7 +101,8 @@ def plot_throw(result, path=None, *, ax=None):
     throw = (f"{result.stone_name} stone, {result.mass * 1e3:.1f} g: "
              f"{float(th.speed):.1f} m/s, tilt {math.degrees(float(th.tilt)):.1f}°, "
              f"attack {math.degrees(float(th.attack)):.1f}°, spin {float(th.spin) / (2 * math.pi):.1f} rev/s")
-    outcome = f"{plural(result.bounces, 'bounce')}, {result.distance:.1f} m, {result.outcome.replace('_', ' ')}"
+    # (three significant figures: a 4 cm throw read "0.0 m"; a review)
+    outcome = f"{plural(result.bounces, 'bounce')}, {result.distance:.3g} m, {result.outcome.replace('_', ' ')}"
     # settings off the defaults, which change the answer: a held tilt read as a free throw (a review)
     force = result.config.force
     other = [w for w, on in (("tilt held", result.config.attitude == "fixed"), (f"{force.law} law", force.law != "bocquet"),

@@ -988,9 +988,19 @@ def _best_text(result: SearchResult) -> str:
     """The best throw's score in words: its true count (and distance), or for the distance objective its
     distance (and count)."""
     d = result.best_distance
+    # (a best throw the duration cut off was drawn as a final, "true" count: a review)
+    cut = ", cut off: a lower bound" if result.best_cut_off else ""
     if result.objective == "distance" and d is not None:
-        return f"longest distance {d:.2f} m ({result.best_bounces} bounces)"
-    return f"best {result.best_bounces} bounces" + ("" if d is None else f" ({d:.2f} m)")
+        return f"longest distance {d:.2f} m ({result.best_bounces} bounces{cut})"
+    return f"best {result.best_bounces} bounces" + ("" if d is None else f" ({d:.2f} m{cut})")
+
+
+def _cut_note(result: SearchResult) -> str:
+    """A legend line for the throws a search's run stopped while in play ("" when none was)."""
+    if not result.cut_off:
+        return ""
+    return (f"{result.cut_off} throw{'s' if result.cut_off != 1 else ''} cut off while in play (duration, "
+            "max_steps): lower bounds")
 
 
 def _count_histogram(result: SearchResult) -> np.ndarray | None:
@@ -1019,7 +1029,8 @@ def _histogram_figure(result: SearchResult, hist: np.ndarray):
     best = result.best_bounces
     marked = (counts == best) & (hist > 0)
     failed = f"; {result.diverged} more diverged, not drawn" if result.diverged else ""
-    ax.bar(counts[~marked], hist[~marked], width=0.8, color="C0", label=f"throws per count ({n} throws{failed})")
+    cut = f"\n{_cut_note(result)}" if result.cut_off else ""
+    ax.bar(counts[~marked], hist[~marked], width=0.8, color="C0", label=f"throws per count ({n} throws{failed}){cut}")
     if marked.any():
         k = int(hist[best])
         what = "the longest throw's count" if result.objective == "distance" else "the best count found"
@@ -1127,10 +1138,16 @@ def _search_figure(result: SearchResult):
     _iteration_ticks(ax, its[0], its[-1], polish_at)
     if not distance:
         ax.yaxis.set_major_locator(MaxNLocator(integer=True))
+        low, high = np.nanmin(per), np.nanmax(np.append(per.ravel(), best))
+        if high - low < 2:   # (equal counts gave ticks of 4.74...5.22 or -0.045...0.045 bounces: a review)
+            ax.set_ylim(low - 1.5, high + 1.5)
+    if result.cut_off:
+        ax.plot([], [], " ", label=_cut_note(result))
     ax.set_xlabel("iteration")
     ax.set_ylabel(f"true {'distance' if distance else 'bounce count'} (exact simulation) [{unit}]")
     ax.set_title(f"{result.method} search: {_best_text(result)}\nat {_throw_text(result.best)}", fontsize=9)
-    ax.legend(fontsize=8, loc="upper center", bbox_to_anchor=(0.5, -0.13), ncol=2, frameon=False)
+    ax.legend(fontsize=8, loc="upper center", bbox_to_anchor=(0.5, -0.13), ncol=1 if result.cut_off else 2,
+              frameon=False)
     if norms:
         _norm_panel(axes[1], norms, colours, its[-1] if polish_at is None else polish_at, unit,
                     gradient_health(result)["starts"])

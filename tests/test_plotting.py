@@ -289,3 +289,12 @@ def test_water_pictures_word_a_small_scale_and_the_rest_level(held_disk):
     fig = plot_throw(held_disk)
     assert "water surface" in [t.get_text() for t in fig.axes[0].get_legend().get_texts()]
     plt.close(fig)
+
+
+def test_the_side_views_title_gives_a_short_throws_distance():
+    """(2026-12-07, a review) the title rounded the distance to 0.1 m: a throw of a few centimetres read "0.0 m"."""
+    result = simulate(Throw.from_degrees(speed=0.5))
+    fig = plot_throw(result)
+    title = " ".join([fig.get_suptitle()] + [a.get_title() for a in fig.axes])
+    plt.close(fig)
+    assert f"{result.distance:.3g} m" in title and result.distance < 0.1 and "0.0 m" not in title, title

@@ -417,3 +417,21 @@ def test_a_one_row_domain_is_drawn_with_whole_count_ticks(tilts, attacks, b):
     fig.draw_without_rendering()
     ticks = [float(t) for t in bar.get_yticks()]
     assert ticks and all(t == int(t) and 0 <= t <= max(map(max, b)) for t in ticks), ticks
+
+
+def test_cut_off_counts_are_drawn_as_lower_bounds_and_equal_counts_get_whole_ticks():
+    """(2026-12-07, a review) a search whose best throw the duration cut off drew its count as the final, "true"
+    one (the CLI warned; the picture did not), and a search whose counts were all equal got ticks of
+    4.74...5.22 or -0.045...0.045 bounces."""
+    import dataclasses
+
+    result = dataclasses.replace(exhaustive("random", [0, 0, 1, 2]), cut_off=3, best_cut_off=True)
+    ax = _search_figure(result).axes[0]
+    assert "cut off: a lower bound" in ax.get_title()
+    assert any("3 throws cut off while in play" in t.get_text() for t in ax.get_legend().get_texts())
+    flat = gradient([[1.0, 2.0]], [[5, 5], [5, 5]])
+    ax = _search_figure(flat).axes[0]
+    low, high = ax.get_ylim()
+    ticks = [t for t in ax.get_yticks() if low <= t <= high]
+    assert high - low >= 3 and len(ticks) >= 2 and all(float(t).is_integer() for t in ticks), (low, high, ticks)
+    assert "cut off" not in ax.get_title()
