@@ -128,11 +128,27 @@ def plot_throw(result, path=None, *, ax=None):
     top.ticklabel_format(axis="y", useOffset=False, style="plain")
     if ax is None:      # axes passed in: their figure's layout is the caller's
         fig.tight_layout()
+    # heights in cm against metres downrange: say how much the side view stretches them (bounces of 3-5° were
+    # drawn as 45-60° slopes, unsaid; a review), from the axes' size on the page once laid out
+    stretch = _vertical_stretch(side)
+    if stretch >= 1.5:
+        side.set_ylabel(f"height [cm]\n(drawn ×{stretch:.0f} tall)" if stretch >= 10 else
+                        f"height [cm]\n(drawn ×{stretch:.1f} tall)")
     if path is not None:
         with writing(path):
             fig.savefig(path, dpi=130)
         plt.close(fig)
     return fig
+
+
+def _vertical_stretch(ax) -> float:
+    """How many times taller than wide a length is drawn on the side view ``ax`` (heights in cm, downrange in m):
+    the page's vertical scale over its horizontal one, from the axes' extent on the page."""
+    (x0, x1), (y0, y1) = ax.get_xlim(), ax.get_ylim()
+    box = ax.get_window_extent()
+    if box.width <= 0 or box.height <= 0 or x1 == x0 or y1 == y0:
+        return 1.0
+    return (box.height / ((y1 - y0) / 100.0)) / (box.width / (x1 - x0))
 
 
 def _arc_path(result, spacing: float = 1e-3):

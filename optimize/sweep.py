@@ -1071,7 +1071,10 @@ def _umin_panel(ax, result: dict) -> None:
     if res is None:
         res = umin_resolution((low, high), spec["iterations"])
     bracketed = np.isfinite(u) & ~at_low
-    ax.plot(tilts, u, "-", color="C0", lw=1, alpha=0.6)
+    # the line joins measured values only: an upper bound (bounces at the bracket's low end) joined to them drew a
+    # slope that was never measured (a review)
+    order = np.argsort(tilts, kind="stable")
+    ax.plot(tilts[order], np.where(bracketed, u, np.nan)[order], "-", color="C0", lw=1, alpha=0.6)
     bars = None
     if bracketed.any():
         k = int(bracketed.sum())
@@ -1183,7 +1186,7 @@ def _domain_panel(fig, ax, result: dict) -> None:
     if handles:
         ax.legend(handles=handles, fontsize=8, loc="upper center", bbox_to_anchor=(0.5, -0.14), frameon=False)
     ax.set_xlabel("tilt α [deg]")
-    ax.set_ylabel("impact angle β [deg]")
+    ax.set_ylabel("attack β (impact angle) [deg]")
     ax.set_title(f"bounce domain at speed {spec['speed']:g} m/s, spin {spec['spin']:g} rev/s ({spec['stone']}, "
                  f"{spec['attitude']} attitude)", fontsize=10)
 

@@ -298,3 +298,17 @@ def test_the_side_views_title_gives_a_short_throws_distance():
     title = " ".join([fig.get_suptitle()] + [a.get_title() for a in fig.axes])
     plt.close(fig)
     assert f"{result.distance:.3g} m" in title and result.distance < 0.1 and "0.0 m" not in title, title
+
+
+def test_the_side_view_says_how_much_it_stretches_heights():
+    """(2026-12-07, a review) heights in cm against metres downrange drew 3-5° bounces as 45-60° slopes, unsaid:
+    the axis label gives the stretch, measured from the axes on the page (about 11 for the default throw)."""
+    import re
+
+    from jaxskip.plotting import _vertical_stretch
+
+    fig = plot_throw(simulate())
+    side = fig.axes[0]
+    said = re.search(r"drawn ×(\d+) tall", side.get_ylabel())
+    assert said and int(said.group(1)) == round(_vertical_stretch(side)) and 5 < int(said.group(1)) < 30
+    plt.close(fig)

@@ -317,7 +317,7 @@ def test_domain_has_tilt_on_x_like_the_umin_panel_and_the_notebook():
     from matplotlib.collections import QuadMesh
 
     ax = _sweep_figure(domain_result()).axes[0]
-    assert ax.get_xlabel().startswith("tilt α") and ax.get_ylabel().startswith("impact angle β")
+    assert ax.get_xlabel().startswith("tilt α") and ax.get_ylabel().startswith("attack β")
     mesh = next(c for c in ax.collections if isinstance(c, QuadMesh))
     counts = np.asarray(mesh.get_array()).reshape(4, 3)   # rows: attacks 0..45, columns: tilts 10..30
     assert counts[1, 0] == 4 and counts[2, 1] == 1 and counts[1, 2] == 1
@@ -435,3 +435,13 @@ def test_cut_off_counts_are_drawn_as_lower_bounds_and_equal_counts_get_whole_tic
     ticks = [t for t in ax.get_yticks() if low <= t <= high]
     assert high - low >= 3 and len(ticks) >= 2 and all(float(t).is_integer() for t in ticks), (low, high, ticks)
     assert "cut off" not in ax.get_title()
+
+
+def test_umin_line_joins_measured_values_only():
+    """(2026-12-07, a review) the U_min line joined an upper bound (a tilt that bounces at the bracket's low end)
+    to the measured values, drawing a slope no bisection measured."""
+    result = umin_result([0.5, 2.0, 3.0], [1, 0, 0])
+    ax = _sweep_figure(result).axes[0]
+    line = next(ln for ln in ax.get_lines() if ln.get_linestyle() == "-" and len(ln.get_xdata()) == 3)
+    y = np.asarray(line.get_ydata(), dtype=float)
+    assert np.isnan(y[0]) and np.allclose(y[1:], [2.0, 3.0]), y
