@@ -227,13 +227,14 @@ def _frame_extent(field, origin):
     return (origin[0] - l / 2, origin[0] + (nx - 0.5) * l, origin[1] - l / 2, origin[1] + (ny - 0.5) * l)
 
 
-def plot_water(result, stone, path=None, *, frame=None):
+def plot_water(result, stone=None, path=None, *, frame=None):
     """Ripples after impacts (the seed paper's Fig. 7): a shaded top view and a 3-D view with the stone.
 
     Parameters
     ----------
     result : a :class:`jaxskip.api.ThrowResult` from ``simulate(..., water_field=...)``.
-    stone : the :class:`jaxskip.RigidStone` that was thrown (drawn at the frame's pose).
+    stone : the :class:`jaxskip.RigidStone` that was thrown (drawn at the frame's pose); None (default): the
+        result's own, ``result.rigid`` (another stone is refused).
     path : if given, save there and close the figure; its suffix picks the format (any matplotlib writes;
         a path without one is refused).
     frame : index into ``result.field["frames"]``, an integer in [-n, n - 1] for n frames (negative: from
@@ -251,7 +252,7 @@ def plot_water(result, stone, path=None, *, frame=None):
     from mpl_toolkits.mplot3d.art3d import Poly3DCollection
 
     field = _check_field(result)
-    _check_stone(stone)
+    stone = _check_stone(stone, result)
     frames = field["frames"]
     depth = field["depth"]
     if frame is None:
@@ -328,13 +329,26 @@ def _check_result(result):
     return result
 
 
-def _check_stone(stone):
+def _check_stone(stone, result):
+    """The stone to draw: ``stone``, or None for the one ``result`` was simulated with (``result.rigid``). A stone
+    other than that one is refused: a Clanet throw drawn with the paper stone showed another footprint and
+    another vertical scale, in silence (a review)."""
     from ._checks import ParameterError
     from .body import RigidStone
 
+    thrown = getattr(result, "rigid", None)
+    if stone is None:
+        if thrown is None:
+            raise ParameterError("stone: this result carries no stone (result.rigid is None): give the "
+                                 "jaxskip.RigidStone that was thrown")
+        return thrown
     if not isinstance(stone, RigidStone):
         raise ParameterError(f"stone must be the jaxskip.RigidStone that was thrown (e.g. rigid_stone(paper_stone(), "
-                             f"density=2650.0)), got {type(stone).__name__}")
+                             f"density=2650.0)), or None for result.rigid; got {type(stone).__name__}")
+    if thrown is not None and (np.shape(stone.triangles) != np.shape(thrown.triangles) or not np.allclose(
+            np.asarray(stone.triangles, float), np.asarray(thrown.triangles, float), rtol=1e-6, atol=1e-9)):
+        raise ParameterError(f"stone is not the stone this throw was simulated with ({result.stone_name}, "
+                             f"{np.shape(thrown.triangles)[0]} triangles): give result.rigid, or None")
     return stone
 
 
@@ -359,7 +373,8 @@ def animate_throw(result, stone, path, *, fps: int = 20):
     time it covers: the animation is the throw in uniform slow motion, ``fps`` frames a second on
     average (each frame shown 20 ms to 2 s: GIF viewers show shorter frames slower, so 50 is the most).
 
-    ``stone``: the :class:`jaxskip.RigidStone` that was thrown (its triangles draw the footprint).
+    ``stone``: the :class:`jaxskip.RigidStone` that was thrown (its triangles draw the footprint), or None for the
+    result's own, ``result.rigid`` (another stone is refused).
     ``fps``: frames per second of the animation on average, in (0, 50]. Returns ``path``.
     """
     import matplotlib
@@ -375,7 +390,7 @@ def animate_throw(result, stone, path, *, fps: int = 20):
     check_file_path("path", path)
     fps = check_range("fps", fps, 0.0, 50.0, unit="frames/s", low_open=True)
     field = _check_field(result)
-    _check_stone(stone)
+    stone = _check_stone(stone, result)
     snapshots = field["frames"]
     depth = field["depth"]
     lim = _elevation_limit(snapshots, depth)

@@ -210,7 +210,7 @@ def test_pictures_refuse_bad_arguments_by_name(held_disk):
     show: each named (they ended in an IndexError, AttributeError or a silently slower animation)."""
     import dataclasses
 
-    from jaxskip import ParameterError, clanet_disk, rigid_stone
+    from jaxskip import ParameterError, clanet_disk, paper_stone, rigid_stone
     from jaxskip.plotting import animate_throw, plot_throw, plot_water
 
     stone = rigid_stone(clanet_disk(), density=2700.0)
@@ -221,6 +221,11 @@ def test_pictures_refuse_bad_arguments_by_name(held_disk):
             plot_water(wet, stone, frame=frame)
     with pytest.raises(ParameterError, match="stone must be the jaxskip.RigidStone that was thrown"):
         plot_water(wet, "clanet")
+    # (2026-12-07, a review) another stone than the thrown one drew another footprint, in silence; None is the
+    # result's own
+    with pytest.raises(ParameterError, match="stone is not the stone this throw was simulated with"):
+        plot_water(wet, rigid_stone(paper_stone(), density=2650.0))
+    plt.close(plot_water(wet, None))
     with pytest.raises(ParameterError, match="result must be a jaxskip ThrowResult .*got dict"):
         plot_throw({"trajectory": None})
     with pytest.raises(ParameterError, match=r"fps must be in \(0, 50\]"):
