@@ -422,7 +422,10 @@ def animate_throw(result, stone, path, *, fps: int = 20):
         side.plot(down[seen], pos[seen, 2] * 100, color="0.2", lw=1.0)
         side.plot(np.where(seen & wet, down, np.nan), np.where(seen & wet, pos[:, 2] * 100, np.nan),
                   color="#d1495b", lw=2.0)
-        side.plot(_throw_frame(np.asarray(position)[None], heading)[0], [position[2] * 100], "o", color="#d1495b")
+        # (red only in contact, as the title says: it was red in the air too; a review)
+        now = bool(_in_contact(result, np.array([t]))[0])
+        side.plot(_throw_frame(np.asarray(position)[None], heading)[0], [position[2] * 100], "o",
+                  color="#d1495b" if now else "0.2")
         side.set_xlim(*_downrange_limits(down))
         side.set_ylim(min(-2.0, pos[:, 2].min() * 100 - 0.5), max(pos[:, 2].max() * 115, 2.0))
         side.set_xlabel("downrange [m] (along the heading)")
@@ -434,11 +437,30 @@ def animate_throw(result, stone, path, *, fps: int = 20):
     for i in range(len(frames)):
         draw(i)
         fig.canvas.draw()
+        if i == 0:
+            # the layout of the first frame for all: laid out anew, the panels moved by up to 16 pixels from frame
+            # to frame as the moving window's tick labels changed (the picture shook; a review)
+            fig.set_layout_engine("none")
         images.append(Image.fromarray(np.asarray(fig.canvas.buffer_rgba())[..., :3].copy()))
     plt.close(fig)
+    images = _one_palette(images)
     with writing(path):
         images[0].save(path, save_all=True, append_images=images[1:], duration=durations, loop=0)
     return path
+
+
+def _one_palette(images: list) -> list:
+    """The RGB ``images`` as palette images sharing one palette, made from the first, middle and last (a GIF
+    frame otherwise gets its own: one pixel of the colour bar took 24 colours over 36 frames; a review)."""
+    from PIL import Image
+
+    picks = [images[0], images[len(images) // 2], images[-1]]
+    w, h = picks[0].size
+    sheet = Image.new("RGB", (w, h * len(picks)))
+    for k, im in enumerate(picks):
+        sheet.paste(im, (0, h * k))
+    palette = sheet.quantize(colors=256, method=Image.Quantize.MEDIANCUT)
+    return [im.quantize(palette=palette, dither=Image.Dither.NONE) for im in images]
 
 
 #: A gap between two water snapshots longer than this many times the snapshots' spacing in contact (a long flight,

@@ -317,3 +317,24 @@ def test_the_side_view_says_how_much_it_stretches_heights():
     said = re.search(r"drawn ×(\d+) tall", side.get_ylabel())
     assert said and int(said.group(1)) == round(_vertical_stretch(side)) and 5 < int(said.group(1)) < 30
     plt.close(fig)
+
+
+def test_animation_frames_share_one_palette():
+    """(2026-12-07, a review) each GIF frame got its own palette: a fixed pixel of the colour bar took 24 colours over
+    36 frames, and the colour bar flickered. The frames share the palette of their first, middle and last now."""
+    from PIL import Image
+
+    from jaxskip.plotting import _one_palette
+
+    rng = np.random.default_rng(0)
+    ramp = np.linspace(0, 255, 64).astype(np.uint8)
+    frames = []
+    for k in range(5):   # a fixed colour bar (the ramp) beside changing noise
+        a = np.zeros((64, 96, 3), np.uint8)
+        a[:, :32] = ramp[:, None, None]
+        a[:, 32:] = rng.integers(0, 256, (64, 64, 3))
+        frames.append(Image.fromarray(a))
+    out = _one_palette(frames)
+    assert all(im.mode == "P" and im.getpalette() == out[0].getpalette() for im in out)
+    bars = [np.asarray(im.convert("RGB"))[:, :32] for im in out]
+    assert all(np.array_equal(b, bars[0]) for b in bars)          # the bar is drawn alike in every frame
