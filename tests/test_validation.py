@@ -251,7 +251,7 @@ def _bad_inputs():
         (lambda: height_at(WaterGrid(shape=(32, 32)), np.zeros((8, 8)), 0.1, 0.1),
          r"height must have the grid's shape \(32, 32\), got \(8, 8\)"),
         (lambda: make_objective("bounces", SimConfig(), rigid_stone(paper_stone(), density=2650.0), water_params(),
-                                width=0.0), r"width must be > 0 m"),
+                                width=0.0), r"width must be in \[1e-09, 0.01\] m"),
         (lambda: Box(searched=(("speed", -5.0, 500.0),), held=()), r"speed must lie within \[0.1, 50\] m/s"),
         (lambda: make_box().from_user({"speed": [15.0], "tilt": [10.0], "attack": [1.0], "spin": [1.0]}),
          r"speed must lie within the box \[3, 12\] m/s, got 15.0"),
