@@ -102,7 +102,8 @@ def plot_throw(result, path=None, *, ax=None):
              f"{float(th.speed):.1f} m/s, tilt {math.degrees(float(th.tilt)):.1f}°, "
              f"attack {math.degrees(float(th.attack)):.1f}°, spin {float(th.spin) / (2 * math.pi):.1f} rev/s")
     # (three significant figures: a 4 cm throw read "0.0 m"; a review)
-    outcome = f"{plural(result.bounces, 'bounce')}, {result.distance:.3g} m, {result.outcome.replace('_', ' ')}"
+    far = f"{result.distance:.3g} m" if result.distance >= 1e-3 else "< 1 mm"
+    outcome = f"{plural(result.bounces, 'bounce')}, {far}, {result.outcome.replace('_', ' ')}"
     # settings off the defaults, which change the answer: a held tilt read as a free throw (a review)
     force = result.config.force
     other = [w for w, on in (("tilt held", result.config.attitude == "fixed"), (f"{force.law} law", force.law != "bocquet"),
@@ -113,7 +114,10 @@ def plot_throw(result, path=None, *, ax=None):
     side.set_title(f"{throw}  →  {outcome}" if wide else f"{throw}\n→  {outcome}", fontsize=10 if wide else 9)
     side.legend(loc="lower left", ncol=3, fontsize=8, frameon=False)   # one row under the water line, below the numbers
 
-    top.plot(x, y * 100, color="0.2", lw=1.0)
+    # a throw that never moves sideways or downrange (straight down) is one point: drawn as one (a bare line of
+    # zero length left the panel blank; a review)
+    still = np.ptp(x) < 1e-6 and np.ptp(y) < 1e-6   # [m]: rounding moves a plunging stone by ~1e-8 m
+    top.plot(x, y * 100, color="0.2", lw=1.0, marker="o" if still else None, ms=4)
     if wet.any():
         top.plot(np.where(wet, x, np.nan), np.where(wet, y * 100, np.nan), color="#d1495b", lw=2.5)
     top.set_ylabel("sideways [cm]\n(+: left)")
@@ -520,13 +524,16 @@ def _pace(durations, span: float) -> str:
     """The animation's pace against the throw's, for its title: ``durations`` [ms] of the frames, ``span`` [s]
     of simulated time they cover. A 4.45 s throw shown in 0.39 s read "slow motion ×0.1"; now "fast forward ×11".
 
-    >>> _pace([50] * 30, 0.375), _pace([70] * 5 + [40], 4.45), _pace([50], 0.0)
-    ('; slow motion ×4', '; fast forward ×11', '')
+    >>> _pace([50] * 30, 0.375), _pace([70] * 5 + [40], 4.45), _pace([50], 0.0), _pace([2000] * 10, 0.09)
+    ('; slow motion ×4', '; fast forward ×11', '', '; slow motion ×222')
     """
     if span <= 0:
         return ""
     ratio = sum(durations) / 1000.0 / span
-    return f"; slow motion ×{ratio:.2g}" if ratio >= 1 else f"; fast forward ×{1 / ratio:.2g}"
+    k = ratio if ratio >= 1 else 1 / ratio
+    # (whole numbers from 10 up: "×2e+02" read as code; a review)
+    text = f"{k:.0f}" if k >= 10 else f"{k:.2g}"
+    return f"; slow motion ×{text}" if ratio >= 1 else f"; fast forward ×{text}"
 
 
 def _frame_durations(times, fps: float) -> list:
