@@ -42,7 +42,9 @@ def _as_float(name: str, value, valid: str = "") -> float:
                              "water, c_lift=x) of a checked WaterParams, dataclasses.replace(stone, mass=m) of a "
                              "rigid_stone (its fields are independent leaves: a density scales mass and inertia "
                              "together, see help(RigidStone)), or a Throw(...) built directly); settings such as "
-                             "SimConfig's are static and cannot be traced")
+                             "SimConfig's and WaterGrid's (the water's spacing, depth, damping, time step: they fix "
+                             "the compiled program) are static and cannot be traced or differentiated: vary them in "
+                             "Python, each value compiling its own program")
     try:
         value = float(value)  # numpy scalars, 0-d arrays; an int beyond the float range overflows
     except OverflowError:

@@ -68,8 +68,8 @@ from .forces import WaterParams
 from .simulate import SimConfig, _check_concrete, _check_rollout_args, _scan, initial_carry, make_step
 from ._checks import ParameterError, check_bool, check_int, check_range
 from .throw import Throw
-from .water import (WaterGrid, WaterState, _check_grid, deposit, height_at, make_water_step, still_water,
-                    water_substeps)
+from .water import (WaterGrid, WaterState, _check_grid, _check_state, deposit, height_at, make_water_step,
+                    still_water, water_substeps)
 
 
 CLAMP_BLOCKS = (0.32, 0.64)
@@ -140,6 +140,14 @@ def _centred_offset(spacing: float, shape: tuple, position):
     return jnp.round(position[:2] / spacing).astype(jnp.int32) - jnp.array([nx // 2, ny // 2], jnp.int32)
 
 
+def _check_reach(grid: WaterGrid, position) -> None:
+    """A concrete ``position`` (3,) [m] within the window offsets' int32 reach, ±:data:`MAX_OFFSET` columns."""
+    far = MAX_OFFSET * grid.spacing
+    if not isinstance(position, jax.core.Tracer) and float(jnp.max(jnp.abs(position[:2]))) > far:
+        raise ParameterError(f"position's x and y must lie within ±{far:g} m ({MAX_OFFSET:g} columns of "
+                             f"{grid.spacing:g} m: the window's offset counts columns in int32), got {position!r}")
+
+
 def recentre(grid: WaterGrid, water: WaterState, offset, position):
     """Shift the window so the stone at ``position`` (3,) [m] sits at its centre.
 
@@ -148,7 +156,11 @@ def recentre(grid: WaterGrid, water: WaterState, offset, position):
     :class:`WaterState` and the new offset.
     """
     _check_grid(grid)
+    _check_state(grid, water)   # (another grid's state was shifted in silence, None met a raw AttributeError)
     position = _checked_position(position)    # (a NaN position gave an offset of -4, -4 in silence)
+    _check_reach(grid, position)              # (beyond it the int32 offset saturated in silence)
+    if isinstance(offset, (list, tuple)):     # ([0, 0] met a raw "Cannot determine dtype")
+        offset = np.asarray(offset)
     if jnp.shape(offset) != (2,) or not jnp.issubdtype(jnp.result_type(offset), jnp.integer):
         raise ParameterError(f"offset must be 2 integers (the window's column (0, 0) in world columns), got {offset!r}")
     new = _centred_offset(grid.spacing, grid.shape, position)
@@ -172,8 +184,14 @@ def advance_field(grid: WaterGrid, water_step, f: "Field", position, spread: int
     seconds, each at most ``dt_max`` [s]; only then is the window re-centred on the stone at
     ``position`` (3,) [m] (re-centring first would shift the field under a push that stays put:
     the pressure would land a column or two away from the stone). Returns the new
-    :class:`Field` with nothing pending.
+    :class:`Field` with nothing pending. ``spread`` and ``substeps`` are static integers, >= 0 and >= 1.
     """
+    # (checked: substeps -3 dropped the push in silence, spread -1 or 2.5 met raw Value/TypeErrors, a WaterState
+    # for f a raw AttributeError; a review)
+    if not isinstance(f, Field):
+        raise ParameterError(f"f must be a jaxskip.coupled.Field (initial_field), got {type(f).__name__}")
+    spread = check_int("spread", spread, minimum=0)
+    substeps = check_int("substeps", substeps, minimum=1)
     # (nothing pending: no push, and water steps of no time; 0 / 0 was NaN in every column)
     some = f.pending > 0.0
     push = _spread(f.impulse / jnp.where(some, f.pending, 1.0), spread)
@@ -337,10 +355,7 @@ def initial_field(grid: WaterGrid, position) -> Field:
     """
     _check_grid(grid)
     position = _checked_position(position)
-    far = MAX_OFFSET * grid.spacing
-    if not isinstance(position, jax.core.Tracer) and float(jnp.max(jnp.abs(position[:2]))) > far:
-        raise ParameterError(f"position's x and y must lie within ±{far:g} m ({MAX_OFFSET:g} columns of "
-                             f"{grid.spacing:g} m: the window's offset counts columns in int32), got {position!r}")
+    _check_reach(grid, position)
     dtype = position.dtype
     offset = _centred_offset(grid.spacing, grid.shape, position)
     return Field(still_water(grid, dtype=dtype), offset, jnp.zeros(grid.shape, dtype), jnp.zeros((), dtype))
@@ -407,7 +422,8 @@ def rollout_coupled(config: SimConfig, grid: WaterGrid, throw: Throw, stone: Rig
 
     Returns ``(state, tracker, records, field)``: as :func:`jaxskip.rollout`, plus
     the final :class:`Field` (the window's water and its offset). The water
-    starts still. ``water_dt`` and ``two_way`` as in :func:`make_coupled_step`. The window's own ``gravity``
+    starts still. The field's water may lag the stone's clock by up to one water interval: its ``pending``
+    [s] and ``impulse`` [Pa s] hold the last push not yet stepped (:func:`advance_field` applies it). ``water_dt`` and ``two_way`` as in :func:`make_coupled_step`. The window's own ``gravity``
     and ``rho`` are static fields of ``grid`` (checked equal to ``water``'s when concrete): a gradient with
     respect to ``water.rho_water`` or ``water.gravity`` moves the stone's forces only, not the water's.
     """

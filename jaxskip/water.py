@@ -164,7 +164,11 @@ def _margin(dtype) -> float:
 @document_fields
 @dataclasses.dataclass(frozen=True)
 class WaterGrid:
-    """Static (hashable) description of a height-field grid. SI units."""
+    """Static (hashable) description of a height-field grid. SI units.
+
+    Every field is static: it fixes the compiled step, so none can be traced or differentiated (a gradient with
+    respect to the depth or the damping is not available), and each new value compiles its own program (a
+    cache of 32 grids). Vary them in Python."""
 
     shape: tuple[int, int] = (128, 128)
     """Columns ``(nx, ny)``, each at least 3, at most 4096² in all (integers; NumPy's too)."""
@@ -640,16 +644,15 @@ def make_water_step(grid: WaterGrid, clamp_blocks: tuple = ()):
         if not isinstance(state, WaterState):   # (None met a raw AttributeError)
             raise ParameterError(f"state must be a jaxskip.WaterState (see still_water), got {type(state).__name__}")
         # (shapes are static: checked when traced; a (ny,) pressure broadcast over the rows in silence)
-        if jnp.shape(pressure) != grid.shape or jnp.shape(state.height) != grid.shape:
-            raise ParameterError(f"pressure and state.height must have the grid's shape {grid.shape}, got "
-                                 f"{jnp.shape(pressure)} and {jnp.shape(state.height)}")
-        _check_state_dtypes(state)
+        if jnp.shape(pressure) != grid.shape:
+            raise ParameterError(f"pressure must have the grid's shape {grid.shape}, got {jnp.shape(pressure)}")
+        # every array where it lives, in one float type, and concrete heights, flows and clock finite (heights >= 0),
+        # as run_water checks (a (1, ny) flow broadcast over every pipe, a NaN flow or clock ran on in silence)
+        _check_state(grid, state)
         if jnp.iscomplexobj(pressure):
             raise ParameterError("pressure must be real [Pa per column], got a complex array")
         if not isinstance(pressure, jax.core.Tracer) and not bool(np.all(np.isfinite(np.asarray(pressure)))):
             raise ParameterError("pressure must be finite in every column [Pa]")   # (NaN heights followed in silence)
-        if not isinstance(state.height, jax.core.Tracer):   # as run_water (-0.01 m everywhere: water made by the clamp)
-            _check_heights("state.height", state.height)
         # the state's float type throughout (a float64 pressure on a float32 state under x64 made float64
         # heights: a scan over the step met a raw carry-type error)
         pressure = jnp.asarray(pressure, dtype=state.height.dtype)

@@ -404,3 +404,42 @@ def test_coupled_review_2026_12_07():
         initial_field(SMALL, np.zeros(3, np.float16))
     with pytest.raises(ParameterError, match=r"position must be 2 or 3 finite real numbers"):
         recentre(SMALL, still_water(SMALL), jnp.zeros(2, jnp.int32), jnp.array([jnp.nan, 0.0, 0.0]))
+
+
+def test_water_helpers_check_what_they_are_given():
+    """(2026-12-07, a review of the water as a library) the pure water step checked only the heights' and the
+    pressure's shapes: a (1, ny) flow was broadcast over every pipe and a NaN flow ran on, in silence;
+    advance_field dropped the push with substeps -3 and met raw errors for spread -1 or a WaterState; recentre
+    shifted another grid's state, and met raw errors for None or an offset given as a list."""
+    import dataclasses
+
+    import jax.numpy as jnp
+    import numpy as np
+    import pytest
+
+    from jaxskip import ParameterError
+    from jaxskip.coupled import advance_field, initial_field, recentre
+    from jaxskip.water import WaterGrid, make_water_step, still_water
+
+    grid = WaterGrid(shape=(16, 16), spacing=0.01, depth=0.02)
+    step, state, p = make_water_step(grid), still_water(grid), jnp.zeros((16, 16))
+    for bad, said in ((dataclasses.replace(state, qx=jnp.full((1, 16), 1e-6)), r"state.qx must have shape \(15, 16\)"),
+                      (dataclasses.replace(state, time=jnp.zeros(16)), r"state.time must have shape \(\)"),
+                      (dataclasses.replace(state, qx=state.qx.at[0, 0].set(np.nan)), r"state.qx must be finite")):
+        with pytest.raises(ParameterError, match=said):
+            step(bad, p)
+    f = initial_field(grid, [0.0, 0.0, 0.01])
+    for kwargs, said in ((dict(substeps=-3), r"substeps must be an integer >= 1"),
+                         (dict(spread=-1), r"spread must be an integer >= 0"), (dict(spread=2.5), r"spread must be")):
+        with pytest.raises(ParameterError, match=said):
+            advance_field(grid, step, f, jnp.zeros(3), **{"spread": 1, "substeps": 1, **kwargs}, dt_max=grid.time_step)
+    with pytest.raises(ParameterError, match="f must be a jaxskip.coupled.Field"):
+        advance_field(grid, step, still_water(grid), jnp.zeros(3), 1, grid.time_step)
+    with pytest.raises(ParameterError, match=r"state.height must have shape \(16, 16\)"):
+        recentre(grid, still_water(WaterGrid(shape=(20, 20))), f.offset, jnp.zeros(3))
+    with pytest.raises(ParameterError, match="state must be a jaxskip.WaterState"):
+        recentre(grid, None, f.offset, jnp.zeros(3))
+    water, offset = recentre(grid, state, [0, 0], jnp.array([0.05, 0.0, 0.0]))   # a list offset is taken
+    assert water.height.shape == (16, 16) and np.asarray(offset).tolist() == [-3, -8]
+    with pytest.raises(ParameterError, match="position's x and y must lie within"):
+        recentre(grid, state, f.offset, jnp.array([1e8, 0.0, 0.0]))
