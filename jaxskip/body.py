@@ -296,7 +296,10 @@ def rigid_stone(mesh: TriMesh, *, density: float | None = None, mass: float | No
         import warnings
 
         from .simulate import AccuracyWarning   # (here: simulate imports this module)
-        warnings.warn(f"stone {mesh.name!r} is lighter than water ({float(props.mass) / float(props.volume):.4g} "
+        # (worded without a leading "stone": the CLI turned it into "--stone 'clanet' is lighter", blaming the stone
+        # where --density or --mass made it light; a review)
+        warnings.warn(f"the {mesh.name!r} stone at this mass or density is lighter than water "
+                      f"({float(props.mass) / float(props.volume):.4g} "
                       f"kg/m^3 < {FLOATS_BELOW:g}): the force laws have no buoyancy (the water pushes by its dynamic "
                       "pressure alone), so where a real stone would float this one sinks once it is slow",
                       AccuracyWarning, stacklevel=2)

@@ -255,7 +255,8 @@ def build_parser(argv=None) -> argparse.ArgumentParser:
                         "quaternion (w, x, y, z), velocity, in water (SI); the stone in the body frame the "
                         "quaternions rotate goes beside it (PATH.stone.obj)")
     t.add_argument("--fps", type=_float, default=None, metavar="N",
-                   help="(--trajectory) frames per second, in (0, 10000] (default 60)")
+                   help="(--trajectory) frames per second, in (0, 10000] (default 60; a stone spinning faster "
+                        "than a quarter turn a frame is warned of, with the rate that would show it)")
     from .cli_search import add_parsers
 
     words = [a for a in (sys.argv[1:] if argv is None else argv) if not a.startswith("-")]
@@ -338,7 +339,11 @@ def _energy_lines(result) -> list:
         lines[0] += (f"; peak {e['peak']:.3g} J at {e['peak_time']:.2f} s "
                      f"(+{_percent(100 * (e['peak'] / e['release'] - 1))} %)")
     if e["gain"] > e["release"] * ENERGY_RISE + ENERGY_RISE:
-        why = ("with --velocity body each face's force comes from the centre of mass's velocity and can pump a "
+        # (with the tilt held no face turns: no wobble to pump, and --velocity passive is inert; the gain is the
+        # step's, too long for this stone and speed: a review saw 8 -> 21 J for a light disk at 100 m/s)
+        why = ("with --attitude fixed no face turns, so this is the integration: --dt is too long for this stone and "
+               "speed; take a smaller --dt" if result.config.attitude == "fixed" else
+               "with --velocity body each face's force comes from the centre of mass's velocity and can pump a "
                "wobble; --velocity passive never adds any; docs/model.md, 'The default free stone gains energy'"
                if result.config.force.velocity == "body" else "a smaller --dt resolves the contacts better")
         if result.field:   # (moving water may push the stone; the body law's pumping acts on the field as well)

@@ -322,8 +322,8 @@ def write_trajectory(result, path, fps: float = 60.0, mesh: TriMesh | None = Non
     turn = spin_per_frame(result, fps)
     if turn > math.pi:   # (the default throw turned up to 296 deg between frames at 60 frames/s, in silence)
         warnings.warn(f"the stone turns up to {math.degrees(turn):.0f} deg between frames at {fps:g} frames/s: a tool "
-                      "that interpolates between keyframes turns it the short way, backwards; give fps >= "
-                      f"{math.ceil(fps * turn / (math.pi / 2)):d} for at most a quarter turn a frame",
+                      "that interpolates between keyframes turns it the short way, backwards; at least "
+                      f"{math.ceil(fps * turn / (math.pi / 2)):d} frames/s keep it to a quarter turn a frame",
                       UserWarning, stacklevel=2)
     t = result.throw
     about = (f"jaxskip trajectory {os.path.basename(path)}: {result.stone_name} stone of {result.mass * 1e3:.1f} g "

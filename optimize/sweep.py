@@ -786,6 +786,11 @@ def _check_spec_file(out: Path, spec: SweepSpec, remedy: str = RESUME_REMEDY) ->
         if out.is_dir() and any(p.is_file() for p in out.glob("chunk-*.json")):
             raise ParameterError(f"out_dir {str(out)!r} holds chunk files but no spec.json, so nothing says which sweep "
                                  "they belong to: use a new folder (or delete this whole folder)")
+        # (a folder of the user's own result.json or result.csv was written over in silence; a review)
+        mine = [n for n in ("result.json", "result.csv") if (out / n).exists()]
+        if mine:
+            raise ParameterError(f"out_dir {str(out)!r} holds {' and '.join(mine)} but no spec.json: not a sweep's "
+                                 "folder, and the sweep would write over them; use a new folder")
         if _write_new(path, text):
             return
         # (another run created it meanwhile: this one must be the same sweep)

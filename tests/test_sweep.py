@@ -872,3 +872,12 @@ def test_a_umin_chunk_bisected_over_the_whole_bracket_is_refused(tmp_path, monke
     chunk.write_text(json.dumps(data))
     with pytest.raises(ParameterError, match="bisected a tilt over the whole bracket"):
         run_sweep(spec, tmp_path / "s")
+
+
+def test_a_folder_holding_results_but_no_sweep_is_refused(tmp_path):
+    """(2026-12-07, a review) --out into a folder with the user's own result.json wrote over it in silence."""
+    (tmp_path / "other").mkdir()
+    (tmp_path / "other" / "result.json").write_text('{"mine": 1}')
+    with pytest.raises(ParameterError, match=r"holds result.json but no spec.json: not a sweep's folder"):
+        run_sweep(make_spec("domain", tilts=[20.0], attacks=[20.0], duration=0.3), tmp_path / "other")
+    assert (tmp_path / "other" / "result.json").read_text() == '{"mine": 1}'
