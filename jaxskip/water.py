@@ -93,9 +93,9 @@ pipe's flow, so volume stays conserved). Three variants (``clamp=``):
     steps and left for 400, gains 11 / 163 / 703 % of its volume at 0.3 / 1 / 3 kPa
     (the reference: 1e-16). At the scheme's stable bound on a drying grid it blows up:
     a closed 16 × 16 grid 10 cm deep, started as a checkerboard of ±9 cm, grows its
-    heights 1.4e9-fold and its volume 5.5e8-fold in 20 000 steps at the bound (+27 %
-    at the default ``cfl`` 0.5; the reference and smooth clamps keep it to rounding,
-    session 27). Kept as the paper's baseline.
+    tallest column to ~1e9 times the depth (5.5e8 times its first tallest) and its volume 5.5e8-5.7e8-fold in
+    20 000 steps at the bound (session 27; re-run by a review, 2026-12-07) (+27 % at the default ``cfl`` 0.5;
+    the reference and smooth clamps keep it to rounding). Kept as the paper's baseline.
 ``"smooth"``
     The reference with :math:`\min(1, r)` replaced by the generalised mean
     :math:`(1 + r^{-k})^{-1/k}` (``sharpness`` :math:`k`), a smooth lower bound
