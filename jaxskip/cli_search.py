@@ -432,6 +432,8 @@ def run_sweep_command(args) -> int:
             if tie:
                 _say(f"magic angle: no single minimum: tilts {', '.join(tied)} deg tie at U_min {u:.2f} m/s ({where}; "
                      "more --iterations narrow the bracket)")
+            elif u <= low:   # (an upper bound, not a value: "U_min 7.90 m/s (... U_min <= 7.9 m/s)"; a review)
+                _say(f"magic angle: {result['best_tilt']:g} deg, U_min <= {low:g} m/s ({where})")
             else:
                 _say(f"magic angle: {result['best_tilt']:g} deg, U_min {u:.2f} m/s ({where})")
             if result["best_tilt_fit"] is not None:

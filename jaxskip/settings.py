@@ -40,7 +40,7 @@ def simulation(*, stone, mass, density, force_law, c_lift, c_friction, velocity,
         max_steps = steps_for(duration, dt)
         if max_steps > MAX_STEPS:  # (named after what the user gave, not the derived step budget)
             raise ParameterError(f"duration ({duration:g} s) needs {max_steps} steps of dt = {dt:g} s, more than the "
-                                 f"{MAX_STEPS} a run may take: shorten duration or lengthen dt")
+                                 f"{MAX_STEPS} a run may take: shorten duration or lengthen dt (--duration, --dt in the CLI)")
     config = SimConfig(dt=dt, duration=duration, max_steps=max_steps, integrator=integrator, attitude=attitude,
                        force=ForceModel(law=force_law, velocity=velocity))
     water = water_params(force_law, c_lift=c_lift, c_friction=c_friction)

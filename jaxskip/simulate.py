@@ -505,8 +505,8 @@ def check_duration(duration, dt: float) -> float:
     :class:`ParameterError`. :class:`SimConfig` and the CLI (which derives ``max_steps`` from it first) share it."""
     duration = check_real("duration", duration, valid="> 0 s")
     if duration < dt:
-        raise ParameterError(f"duration must be >= dt ({dt:g} s), got {duration:g} s (the first step "
-                             "would already overrun it)")
+        raise ParameterError(f"duration must be >= dt, the time step ({dt:g} s; --dt in the CLI), got {duration:g} s "
+                             "(the first step would already overrun it)")
     return duration
 
 

@@ -367,7 +367,12 @@ def _as_box(box) -> Box:
 def _common(box, config, progress) -> tuple:
     """The arguments every search takes, checked: ``(Box, SimConfig, bool)`` (:func:`_as_box`). A coarse ``dt`` is
     warned of once, attributed to the search's caller (through the search and :func:`_recorded`'s wrapper)."""
-    return _as_box(box), checked_config(config, stacklevel=6), check_bool("progress", progress)
+    box, config = _as_box(box), checked_config(config, stacklevel=6)
+    if config.attitude == "fixed" and "spin" in box.names:   # (searched for nothing: a grid multiplied its cost)
+        warnings.warn("spin is searched with attitude='fixed', where the stone does not turn and the spin sets no "
+                      "motion: every spin gives the same throw; hold it (a single value) to spend the throws on the "
+                      "other parameters", UserWarning, stacklevel=caller_level())
+    return box, config, check_bool("progress", progress)
 
 
 def _check_seed(seed) -> int:

@@ -105,8 +105,8 @@ def test_obj_stone(tmp_path):
     # (2026-12-05, a new user's review) 0 and -1 were "> 0 kg" / "> 0 s", not the stone's range or the rule >= --dt
     (["--mass", "0"], "--mass must be in [0.00456, 1.13] kg for this stone (45.5 cm^3"),
     (["--stone", "clanet", "--mass", "-1"], "--mass must be in [0.000537, 0.134] kg for this stone"),
-    (["--duration", "0"], "--duration must be >= dt (0.00025 s), got 0 s"),
-    (["--duration", "-1", "--dt", "1e-4"], "--duration must be >= dt (0.0001 s), got -1 s"),
+    (["--duration", "0"], "--duration must be >= dt, the time step (0.00025 s; --dt in the CLI), got 0 s"),
+    (["--duration", "-1", "--dt", "1e-4"], "--duration must be >= dt, the time step (0.0001 s; --dt in the CLI), got -1 s"),
 ])
 def test_bad_input_exits_2_without_traceback(args, needle):
     p = run("throw", *args)

@@ -447,7 +447,7 @@ def test_umin_text_words_the_bisection_bracket(tmp_path, capsys):
     assert main(["sweep", "umin", "--tilts", "20,60", "--iterations", "1", "--speed-range", "2.5", "8"]) == 0
     text = capsys.readouterr().out
     assert "tilt   20.0 deg: U_min <= 2.5 m/s (bounces at the bracket's low end)" in text
-    assert ("magic angle: 20 deg, U_min 2.50 m/s (it bounces at the bracket's low end: U_min <= 2.5 m/s, as at "
+    assert ("magic angle: 20 deg, U_min <= 2.5 m/s (it bounces at the bracket's low end: U_min <= 2.5 m/s, as at "
             "tilts 20 deg; the minimum lies among them (lower --speed-range))") in text
     # (session 32, a review) tilts that tie named the first of them "the magic angle". (Their U_min, 1.85 and
     # 1.96 m/s, lie in one interval of the scan, (1.33, 2.17]; one bisection step at 1.75 m/s leaves both there.)

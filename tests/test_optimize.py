@@ -751,3 +751,15 @@ def test_a_search_warns_at_the_users_call():
         stability = [w for w in caught if issubclass(w.category, StabilityWarning)]
         assert len(stability) == 1 and stability[0].filename == __file__, [(w.filename, w.lineno) for w in caught]
         assert all(w.filename == __file__ for w in caught), [(w.filename, w.lineno) for w in caught]
+
+
+def test_an_inert_spin_axis_is_warned_of():
+    """(2026-12-07, a review of the CLI) with the tilt held, a search over spin spent its throws on a parameter that
+    changes nothing (a grid multiplied its cost by per_axis) and reported a 'best' spin; it is warned of."""
+    config = SimConfig(attitude="fixed", duration=0.1)
+    with pytest.warns(UserWarning, match=r"spin is searched with attitude='fixed'"):
+        random_search({"spin": (0.0, 20.0), "tilt": (10.0, 30.0)}, throws=2, config=config)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        random_search({"tilt": (10.0, 30.0)}, throws=2, config=config)    # spin held: nothing to say
+    assert not [w for w in caught if "spin is searched" in str(w.message)]

@@ -580,7 +580,7 @@ def _session_25_bad_inputs():
          r"rollout takes one throw .*'speed': \(2,\)"),
         # settings that cannot make sense: stopped at release; a time limit inside the first step
         (lambda: SimConfig(stop_speed=1e9), r"stop_speed must be in \(0, 100\] m/s"),
-        (lambda: SimConfig(dt=5e-3, duration=1e-3), r"duration must be >= dt \(0.005 s\)"),
+        (lambda: SimConfig(dt=5e-3, duration=1e-3), r"duration must be >= dt, the time step \(0.005 s"),
         # (session 32) a 1 m clearance made the default throw one contact that never ended: 0 bounces, silently
         (lambda: SimConfig(bounce_clearance=1.0), r"bounce_clearance must be in \(0, 0.01\] m, got 1"),
         # names or other objects where a mesh, a grid or a search result belongs: bare AttributeErrors
