@@ -1134,7 +1134,7 @@ def rollout(config: SimConfig, throw: Throw, stone: RigidStone, water: WaterPara
     ``config.duration`` or by the stone leaving play. A run that ends by leaving play (sank, stopped, flipped)
     stops at the first step whose start finds the stone out; that step's index does not move with the throw,
     so the final state's gradient is the state's at a fixed step and lacks the end time's own dependence on
-    the throw, :math:`v\,\partial T/\partial\theta` (measured, a review of 2026-12-07: the default throw with
+    the throw, v dT/dθ (measured, a review of 2026-12-07: the default throw with
     the tilt held sinks at 1.503 s, and d x_final / d tilt is -13.1 m/rad by reverse mode against -15.5 m/rad
     for a line fitted through 201 throws over ±1e-4 rad, across which the sinking moves by 1 ms; d / d speed
     1.375 against 1.369). The distance objective (``optimize.make_objective("distance")``) inherits this.
