@@ -423,7 +423,8 @@ def rollout_coupled(config: SimConfig, grid: WaterGrid, throw: Throw, stone: Rig
     Returns ``(state, tracker, records, field)``: as :func:`jaxskip.rollout`, plus
     the final :class:`Field` (the window's water and its offset). The water
     starts still. The field's water may lag the stone's clock by up to one water interval: its ``pending``
-    [s] and ``impulse`` [Pa s] hold the last push not yet stepped (:func:`advance_field` applies it). ``water_dt`` and ``two_way`` as in :func:`make_coupled_step`. The window's own ``gravity``
+    [s] and ``impulse`` [Pa s] hold the last push not yet stepped (:func:`advance_field` applies it).
+    ``water_dt`` and ``two_way`` as in :func:`make_coupled_step`. The window's own ``gravity``
     and ``rho`` are static fields of ``grid`` (checked equal to ``water``'s when concrete): a gradient with
     respect to ``water.rho_water`` or ``water.gravity`` moves the stone's forces only, not the water's.
     """

@@ -892,8 +892,8 @@ def assemble(spec: SweepSpec, chunks: list[dict]) -> dict:
 
     A U_min sweep's result: ``umin`` per tilt [m/s] (None: no bounce at any speed thrown, the bracket's
     ends and the :data:`SCAN_SPEEDS` between them), ``best_tilt`` [deg] / ``best_umin`` [m/s] the lowest
-    grid point (on a tie, the smallest of the tied tilts), ``tied_tilts`` [deg] the grid points that share that lowest ``umin``
-    when more than one does (a tie: no single minimum at this resolution; else empty), ``best_tilt_fit`` /
+    grid point (on a tie, the smallest of the tied tilts), ``tied_tilts`` [deg] the grid points that share that
+    lowest ``umin`` when more than one does (a tie: no single minimum at this resolution; else empty), ``best_tilt_fit`` /
     ``best_umin_fit`` the minimum between grid points (:func:`parabola_minimum`; None at the
     sweep's edge, at a tie, and when any tilt bounces at the bracket's low end), ``resolution`` the width
     of the bisection's final bracket [m/s]. Each ``umin`` is
