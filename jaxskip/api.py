@@ -170,7 +170,7 @@ class ThrowResult:
     def __repr__(self) -> str:
         # (the dataclass's own repr printed every trajectory array, contact and triangle: 18-97 k characters)
         return (f"ThrowResult({plural(self.bounces, 'bounce')} over {self.distance:.3f} m, "
-                f"{self.outcome} after {self.final_time:.3f} s in {self.steps} steps; {self.stone_name} stone of "
+                f"{self.outcome} after {self.final_time:.3f} s in {plural(self.steps, 'step')}; {self.stone_name} stone of "
                 f"{self.mass * 1e3:.1f} g" + (", on a height field" if self.field else "") + ")")
 
     def energy(self) -> dict:
@@ -552,7 +552,7 @@ def simulate(
         alive = bool(np.asarray(carry[1].counters)[_ALIVE])
         if progress:   # the steps in play so far (as ThrowResult.steps counts them), not the chunks' length
             live += int(np.sum(np.diff(records[-1].time, prepend=-1.0) > 0))
-            line.update(f"  simulated {float(carry[0].time):6.3f} s in {live} steps")
+            line.update(f"  simulated {float(carry[0].time):6.3f} s in {plural(live, 'step')}")
         if not alive:
             break
     if progress:

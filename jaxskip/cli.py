@@ -280,7 +280,7 @@ def _law_words(result) -> str:
 def _summary(result) -> str:
     lines = [
         f"{plural(result.bounces, 'bounce')} over {result.distance:.2f} m; outcome: {result.outcome.replace('_', ' ')} "
-        f"after {result.final_time:.2f} s ({result.steps} steps, {result.wall_time:.2f} s wall)",
+        f"after {result.final_time:.2f} s ({plural(result.steps, 'step')}, {result.wall_time:.2f} s wall)",
         f"stone {result.stone_name} ({result.mass * 1e3:.1f} g), force law {result.config.force.law} "
         f"({_law_words(result)}), attitude {result.config.attitude}, integrator {result.config.integrator}, "
         f"dt {result.config.dt:g} s",

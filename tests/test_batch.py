@@ -234,6 +234,8 @@ def test_results_print_short_and_keep_the_throws_as_simulated(paper, water):
     leading edge down read -180 deg on some headings, outside the documented (-180, 180]."""
     r = simulate(Throw.from_degrees(), stone="paper", water=water)
     assert repr(r) == "ThrowResult(18 bounces over 1.742 m, sank after 0.375 s in 1147 steps; paper stone of 120.7 g)"
+    one = dataclasses.replace(r, steps=1, bounces=1)   # (read "1 steps" before 2026-12-07)
+    assert "1 bounce over" in repr(one) and "in 1 step;" in repr(one)
     b = simulate_batch(Throw.from_degrees(speed=np.linspace(4.0, 9.0, 8).astype(np.float16)), paper, water=water)
     assert len(repr(b)) < 200 and repr(b).startswith("BatchResult(8 throws: bounces ")
     assert isinstance(b.throws.speed, np.ndarray) and b.throws.speed.dtype == np.float64
