@@ -31,8 +31,9 @@ from . import quaternion
 from .mesh import TriMesh
 from .coupled import (check_shared_constants, check_window_fits, coupled_interval, coupled_substeps, initial_field,
                       make_coupled_step)
-from .simulate import (_ALIVE, DIVERGED, LEAVING, OUTCOMES, DivergedWarning, STEP_LIMIT, SimConfig, StoneState, Tracker, _new_tracker, _scan,
-                       diverged_message, initial_state, make_step, warn_if_coarse, warn_if_inert, warn_if_unstable)
+from .simulate import (_ALIVE, DIVERGED, LEAVING, OUTCOMES, DivergedWarning, STEP_LIMIT, SimConfig, StabilityWarning,
+                       StoneState, Tracker, _new_tracker, _scan, diverged_message, initial_state, make_step,
+                       warn_if_coarse, warn_if_inert, warn_if_unstable)
 from .stones import BUILTIN_STONES, load_stone
 from .throw import Throw
 from .water import WaterGrid, placeless, total_volume
@@ -186,9 +187,11 @@ class ThrowResult:
         when it flips); with the tilt held or
         ``velocity="local"`` or ``"passive"`` the water never adds energy: it falls in the water, and rises by
         up to ~1e-8 J in flight come from the split free rotation of an asymmetric stone (the paper stone at 65
-        rev/s; :func:`jaxskip.simulate.free_rotation`). With a height field (``field``) the water's own energy is not included. With
-        the tilt held (``attitude="fixed"``) the stone does not turn, and ``"rotation"`` is the throw's spin
-        energy, carried along unchanged.
+        rev/s; :func:`jaxskip.simulate.free_rotation`). With the tilt held a rise is the step's error (up to
+        0.55 % with ``law="seed"`` at the default 0.25 ms; rounding with Bocquet's law), and :func:`simulate` issues a
+        :class:`jaxskip.StabilityWarning` above :data:`HELD_ENERGY_RISE` (1 %). With a height field (``field``) the
+        water's own energy is not included. With the tilt held (``attitude="fixed"``) the stone does not turn, and
+        ``"rotation"`` is the throw's spin energy, carried along unchanged.
 
         >>> from jaxskip import SimConfig, Throw, simulate
         >>> r = simulate(Throw.from_degrees(), config=SimConfig(attitude="fixed"))
@@ -431,6 +434,32 @@ _start = functools.partial(jax.jit, static_argnames=("contacts",))(_release)
 #: throw than one per 1000 (2026-12-06), and gives the 30 frames of the default throw's 0.38 s.
 FIELD_CHUNK_TIME = 0.01
 
+#: Largest rise of a held-tilt throw's mechanical energy above an earlier value, as a fraction of its release
+#: value, that :func:`simulate` lets pass without a :class:`jaxskip.StabilityWarning`. With the tilt held no face
+#: turns and the water does no positive work, so a rise is the step's error: at the default 0.25 ms it reached
+#: 0.55 % with ``law="seed"`` over 40 random throws of the human box (the paper stone; 1e-16 relative with Bocquet's
+#: law; it falls to rounding at dt / 4), while a step beyond stability gains far more (a 5 cm, 0.5 mm disk at
+#: 500 kg/m^3, 100 m/s, tilt 2 deg: 227 times its release energy at 0.25 ms; measured 2026-12-07).
+HELD_ENERGY_RISE = 0.01
+
+
+def held_energy_rise_message(result: "ThrowResult") -> str | None:
+    """Why ``result``, a throw with the tilt held on flat water, is not to be trusted, or None: its mechanical
+    energy (:meth:`ThrowResult.energy`) rose above an earlier value by more than :data:`HELD_ENERGY_RISE` of its
+    release value, which the water cannot do to a stone that does not turn (only the step can). None for a free
+    stone (whose default ``velocity="body"`` law can add energy: docs/model.md), a height field's throw (moving
+    water can push) or a diverged run (its own warning says so)."""
+    if result.config.attitude != "fixed" or result.field or result.rigid is None or result.outcome == "diverged":
+        return None
+    e = result._energy_summary()
+    if e["gain"] is None or not e["gain"] > HELD_ENERGY_RISE * abs(e["release"]):
+        return None
+    dt = result.config.dt
+    return (f"with the tilt held the water cannot add energy, but the stone's mechanical energy rose by {e['gain']:.3g} J "
+            f"({100 * e['gain'] / abs(e['release']):.3g} % of its {e['release']:.3g} J at release): dt = {dt * 1e3:g} ms "
+            f"is too long for this stone and speed (an explicit step of a stiff contact); take a smaller dt, e.g. "
+            f"{dt * 250:g} ms, and compare")
+
 
 def _snapshot(carry, grid: WaterGrid) -> tuple:
     """One frame of ``ThrowResult.field["frames"]``: (time [s], window origin (2,) [m], column heights
@@ -610,9 +639,13 @@ def simulate(
     contacts = [Contact(**{name: column[i] for name, column in columns.items()}) for i in range(k)]
     release = traj["position"][0]  # the first record: the state at release
     distance = float(np.hypot(*(np.asarray(state.position)[:2] - release[:2])))
-    return ThrowResult(
+    result = ThrowResult(
         bounces=int(tr.bounces), contacts=contacts, n_contacts=int(tr.contacts), distance=distance,
         outcome=outcome, final_time=end_time, steps=n_alive, trajectory=traj, throw=throw, config=config,
         stone_name=name, mass=float(rigid.mass), water=water, wall_time=time.perf_counter() - t0, field=field,
         rigid=rigid,
     )
+    message = held_energy_rise_message(result)
+    if message is not None:
+        warnings.warn(message, StabilityWarning, stacklevel=2)
+    return result

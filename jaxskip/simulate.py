@@ -199,7 +199,9 @@ class AccuracyWarning(UserWarning):
 
 
 class StabilityWarning(AccuracyWarning):
-    """The contact step ``dt`` is longer than the stone's stability estimate (:func:`warn_if_unstable`).
+    """The contact step ``dt`` is longer than the stone's stability estimate (:func:`warn_if_unstable`), or,
+    after a throw with the tilt held, the stone gained energy, which only the step can give it there
+    (:func:`jaxskip.api.held_energy_rise_message`).
 
     Its text names the fastest speed of the batch that raised it, so a search or sweep that runs many
     batches would print one per batch: they issue one for the whole run instead (at its fastest throw)
