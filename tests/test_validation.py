@@ -1008,3 +1008,49 @@ def test_an_inert_velocity_option_is_warned_of_in_python():
         simulate(config=SimConfig(duration=0.05, force=ForceModel(velocity="passive")))
     assert sum(bool(re.match(said, str(w.message))) for w in caught) == 1, [str(w.message) for w in caught]
     assert (local.bounces, local.distance) == (body.bounces, body.distance)   # what the warning says
+
+
+def test_bad_input_is_refused_before_anything_is_traced():
+    """The module's promise, checked (an audit, 2026-12-07: every test here checked the error, none that it came
+    before tracing, so a check moved into traced code would have passed): a JAX monitoring listener sees no
+    trace or compile event while each public entry point refuses a bad throw, stone, mass or box, and does see
+    them for a valid call (the control: the listener works)."""
+    import dataclasses
+
+    import jax
+    import numpy as np
+
+    from jaxskip import rollout_jit, simulate_batch
+
+    events = []
+
+    def listen(name, duration, **kwargs):
+        events.append(name)
+
+    good = Throw.from_degrees()
+    bad = dataclasses.replace(good, speed=math.nan)
+    batch = Throw.from_degrees(speed=np.array([5.0, 6.0]))
+    stone, water = rigid_stone(paper_stone(), density=2650.0), water_params()
+    from optimize import gradient_search
+
+    calls = {
+        "simulate: a NaN speed": lambda: simulate(bad),
+        "simulate_batch: a NaN speed": lambda: simulate_batch(dataclasses.replace(batch, speed=np.array([5.0, math.nan]))),
+        "rollout_jit: a NaN speed": lambda: rollout_jit(SimConfig(), bad, stone, water),
+        "simulate: an unknown stone": lambda: simulate(good, "nosuch"),
+        "simulate: a negative mass": lambda: simulate(good, "paper", mass=-1.0),
+        "gradient_search: an inverted box": lambda: gradient_search({"speed": (9.0, 3.0)}),
+    }
+    jax.monitoring.register_event_duration_secs_listener(listen)
+    try:
+        for what, call in calls.items():
+            events.clear()
+            with pytest.raises(ParameterError):
+                call()
+            traced = [e for e in events if "/jax/core/compile/" in e]
+            assert not traced, (what, traced)
+        events.clear()
+        jax.jit(lambda x: 2.0 * x)(np.float64(1.5))   # (a fresh function: traced and compiled)
+        assert any("jaxpr_trace" in e for e in events), events
+    finally:
+        jax.monitoring.unregister_event_duration_listener(listen)
