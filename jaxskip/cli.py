@@ -426,11 +426,12 @@ def _throw(args) -> int:
     if args.trajectory:   # first: it may still refuse (another throw's stone file), before any picture is written
         from .export import write_trajectory
 
-        from .stones import load_stone
+        from .stones import source_mesh
 
-        # (the mesh the stone was made from: its vertex order in the stone file, and where the body frame lies in it)
+        # (the mesh the stone was made from, in its own frame: its vertex order in the stone file, and where the body
+        # frame lies in it; load_stone's copy of a file is centred, which put an off-origin file's centre at 0)
         stone_obj = write_trajectory(result, args.trajectory, 60.0 if args.fps is None else args.fps,
-                                     mesh=load_stone(values["stone"])[0])
+                                     mesh=source_mesh(values["stone"]))
     if args.plot:
         from .plotting import plot_throw
 

@@ -226,9 +226,10 @@ def mesh_frame(result, mesh: TriMesh) -> dict:
     and at ``x + R(q) R(rotation) (p - center_of_mass)`` in the world at a frame of position ``x`` and
     quaternion ``q`` (:func:`jaxskip.body.body_frame`).
 
-    ``mesh``: the :class:`jaxskip.TriMesh` the stone was made from (``load_stone(name)[0]`` for a built-in
-    name or an ``.obj`` path); one whose triangles, so placed, are not the stone's is refused with a
-    :class:`~jaxskip.ParameterError`.
+    ``mesh``: the :class:`jaxskip.TriMesh` the stone was made from, in the frame you want the answer in
+    (:func:`jaxskip.stones.source_mesh`: a built-in's mesh, or an ``.obj`` file's as written; ``load_stone``'s copy
+    of a file is moved to its centre of mass); one whose triangles, so placed, are not the stone's is refused
+    with a :class:`~jaxskip.ParameterError`.
 
     >>> from jaxskip import simulate
     >>> from jaxskip.stones import load_stone
@@ -244,8 +245,8 @@ def _mesh_axes(result, mesh) -> tuple:
     """:func:`mesh_frame`'s checks, and its centre of mass (3,) [m] and principal axes (3, 3) (columns)."""
     _check_result(result)
     if not isinstance(mesh, TriMesh):
-        raise ParameterError(f"mesh must be the jaxskip.TriMesh the stone was made from (load_stone(name)[0]), "
-                             f"got {type(mesh).__name__}")
+        raise ParameterError(f"mesh must be the jaxskip.TriMesh the stone was made from "
+                             f"(jaxskip.stones.source_mesh(name)), got {type(mesh).__name__}")
     if result.rigid is None:
         raise ParameterError("result has no stone (rigid): a mesh frame needs a ThrowResult from jaxskip.simulate")
     centre, axes = body_frame(mesh)
@@ -276,10 +277,11 @@ def write_trajectory(result, path, fps: float = 60.0, mesh: TriMesh | None = Non
       (``simulate(water_field=...)``), ``"water"``: the grid as :attr:`jaxskip.ThrowResult.field` gives it,
       without its snapshots (the surface itself is not written; the ``about`` text says so).
 
-    ``mesh``: optional, the :class:`jaxskip.TriMesh` the stone was made from (``load_stone(name)[0]``; checked
-    by :func:`mesh_frame`). With it the stone's OBJ keeps that mesh's vertex order, its comment line and the
-    JSON (``"mesh_frame"``: ``center_of_mass`` [m], ``rotation`` (w, x, y, z)) say where the body frame lies in
-    the mesh's own frame: drive your own mesh (UVs, materials) by ``x + R(q) R(rotation) (p - center_of_mass)``.
+    ``mesh``: optional, the :class:`jaxskip.TriMesh` the stone was made from
+    (:func:`jaxskip.stones.source_mesh`; checked by :func:`mesh_frame`). With it the stone's OBJ keeps that
+    mesh's vertex order, its comment line and the JSON (``"mesh_frame"``: ``center_of_mass`` [m], ``rotation``
+    (w, x, y, z)) say where the body frame lies in the mesh's own frame: drive your own mesh (UVs, materials)
+    by ``x + R(q) R(rotation) (p - center_of_mass)``.
 
     The stone is written in the body frame those quaternions rotate (:func:`body_mesh`) as an OBJ at
     :func:`stone_path` (``PATH`` with :data:`STONE_SUFFIX`: ``throw.csv`` -> ``throw.stone.obj``), its first

@@ -372,6 +372,17 @@ BUILTIN_STONES = {
 }
 
 
+def source_mesh(name_or_path: str | os.PathLike) -> TriMesh:
+    """The mesh a stone is made from in its own frame: a built-in's (as :func:`load_stone` gives it), or an
+    ``.obj`` file's as written, not moved to its centre of mass. Give it to :func:`jaxskip.export.mesh_frame` and
+    :func:`jaxskip.export.write_trajectory` to drive your own file's mesh (its frame, vertex order and UVs).
+    Raises :class:`MeshError` as :func:`load_stone` does."""
+    mesh, _ = load_stone(name_or_path)
+    if isinstance(name_or_path, str) and name_or_path in BUILTIN_STONES:
+        return mesh
+    return read_obj(Path(name_or_path))
+
+
 def load_stone(name_or_path: str | os.PathLike) -> tuple[TriMesh, float]:
     """Return a stone mesh and its default density.
 
@@ -384,8 +395,12 @@ def load_stone(name_or_path: str | os.PathLike) -> tuple[TriMesh, float]:
     Returns
     -------
     mesh : TriMesh
-        The stone with its centre of mass at the origin.  A mesh read from a
-        file keeps its orientation, so its thin axis should already be z.
+        The stone with its centre of mass at the origin (a file's mesh moved
+        there; :func:`source_mesh` keeps the file's own frame).  Its orientation
+        does not matter: :func:`jaxskip.rigid_stone` turns every stone to its
+        principal axes, the axis of largest inertia (a flat stone's thin axis)
+        along z and that of smallest inertia (an elongated stone's long axis)
+        along x, the throw's heading, whichever way the file had it.
     density : float
         Default density [kg/m^3]: the built-in's own, or ``STONE_DENSITY`` for
         a file.

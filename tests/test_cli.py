@@ -474,6 +474,27 @@ def test_trajectory_file_for_animators(tmp_path, capsys):
     assert (tmp_path / "throw.stone.obj").stat().st_size > 500
 
 
+def test_trajectory_places_an_off_origin_stone_file_in_its_own_frame(tmp_path, capsys):
+    """(2026-12-07, a review) --stone PATH.obj --trajectory gave the mesh frame of load_stone's centred copy, so a
+    file modelled away from its centre of mass (a mesh whose origin is its base, as an animator's tools have it) got
+    center_of_mass (0, 0, 0) and its animation was off by that offset. Now the file's own centre of mass, as the
+    Python API gives it with the file's mesh."""
+    import numpy as np
+
+    from jaxskip import mass_properties, paper_stone, read_obj, write_obj
+
+    offset = np.array([0.3, -0.2, 0.05])
+    path = tmp_path / "moved.obj"
+    write_obj(path, paper_stone().translated(offset))
+    out_json = tmp_path / "t.json"
+    assert main(["throw", "--stone", str(path), "--duration", "0.05", "--trajectory", str(out_json)]) == 0
+    capsys.readouterr()
+    frame = json.loads(out_json.read_text())["mesh_frame"]
+    centre = mass_properties(read_obj(path), density=1.0).center_of_mass
+    np.testing.assert_allclose(frame["center_of_mass"], centre, rtol=0, atol=1e-9)
+    assert np.linalg.norm(np.asarray(centre) - offset) < 0.01    # the offset, give or take the stone's own centre
+
+
 def test_trajectory_never_writes_over_the_stone_it_simulates(tmp_path, capsys):
     """A stone file named like the trajectory's stone file is refused before anything is simulated or written
     (it used to be overwritten by its body-frame copy)."""
