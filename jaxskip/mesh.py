@@ -371,6 +371,16 @@ def validate_mesh(vertices, faces, *, name: str = "mesh", _numbering: _Numbering
     if not np.isfinite(volume):   # (a NaN volume was read as "<= 0, so the faces point inward")
         raise MeshError(f"{name}: its volume overflows the floating-point range (vertex coordinates up to "
                         f"{float(np.max(np.abs(v))):.3g}); vertices are read in metres")
+    # A closed surface that encloses nothing (a two-sided sheet, or a stone so far out that its coordinates round
+    # it flat) has a signed volume of rounding size: that is no volume, not inward faces (reversing changes nothing)
+    # (rounding: the coordinates relative to their mean carry eps * max|v| each, over a stone L across)
+    extent, far = np.ptp(v, axis=0), float(np.max(np.abs(v)))
+    size = float(np.max(extent))
+    if abs(volume) <= size ** 2 * (1e-9 * size + 1e3 * np.finfo(np.float64).eps * far):
+        raise MeshError(f"{name}: the mesh encloses no volume (signed volume {volume:.3g} m^3; its extents are "
+                        f"{', '.join(f'{e:.3g}' for e in extent)} m): a stone must be a solid with a thickness, not a "
+                        "flat or two-sided sheet" + (f" (or its coordinates, up to {far:.3g} m, are too large for its "
+                                                     "size)" if far > 1e6 * size else ""))
     if not volume > 0.0:
         raise MeshError(f"{name}: signed volume is {volume:.6g} m^3 <= 0, so the faces point "
                         "inward; reverse the vertex order of every triangle")

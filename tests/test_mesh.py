@@ -204,6 +204,19 @@ def test_validate_mesh_errors(kind, message):
         validate_mesh(v, f, name="box")
 
 
+def test_a_closed_sheet_is_said_to_enclose_no_volume_not_to_face_inwards():
+    """(2026-12-07, a review) A closed two-sided square (zero thickness) was told its faces point inward and to
+    reverse them, which changes nothing; a box is still told so when it is inside out."""
+    v = np.array([[0.0, 0.0, 0.0], [0.05, 0.0, 0.0], [0.05, 0.05, 0.0], [0.0, 0.05, 0.0]])
+    f = np.array([[0, 1, 2], [0, 2, 3], [1, 0, 3], [1, 3, 2]])   # front and back, each its own diagonal
+    for faces in (f, f[:, ::-1]):
+        with pytest.raises(MeshError, match="encloses no volume") as err:
+            validate_mesh(v, faces, name="sheet")
+        assert "inward" not in str(err.value)
+    with pytest.raises(MeshError, match="inward"):
+        validate_mesh(*broken_box("inside-out"), name="box")
+
+
 def test_validate_mesh_shape_errors():
     with pytest.raises(MeshError, match=r"shape \(V, 3\)"):
         validate_mesh(np.zeros((4, 2)), np.zeros((4, 3), int))
