@@ -567,8 +567,14 @@ def test_read_obj_takes_latin1_comments_and_continued_lines(tmp_path):
         mesh = read_obj(_write(tmp_path / name, data))
         np.testing.assert_array_equal(mesh.vertices, ref.vertices)
         np.testing.assert_array_equal(mesh.faces, ref.faces)
-    with pytest.raises(MeshError, match="cannot read OBJ file"):
-        read_obj(_write(tmp_path / "wide.obj", plain.encode("utf-16")))
+    # (2026-12-07, a review: these read "'utf-8' codec can't decode byte 0xff in position 0", Python's words)
+    import gzip
+
+    for name, data, kind in (("wide.obj", plain.encode("utf-16"), "UTF-16 text.*save it as UTF-8"),
+                             ("packed.obj", gzip.compress(plain.encode()), "a gzip archive.*decompress it"),
+                             ("bytes.obj", bytes(range(256)), "binary data")):
+        with pytest.raises(MeshError, match=f"cannot read OBJ file .* is not a text OBJ file \\(it looks like {kind}"):
+            read_obj(_write(tmp_path / name, data))
 
 
 def _write(path, data: bytes):
