@@ -3,7 +3,8 @@ r"""A throw: how the stone leaves the hand (or the catapult), and its initial st
 Angles (physics.md §1): ``tilt`` is the angle of the stone's face to the
 water surface, leading edge up (Bocquet's θ, Clanet's α; the "magic angle"
 ≈ 20° is a tilt). ``attack`` is the angle of the velocity *below* the
-horizontal (Clanet's β). ``heading`` turns the whole throw about the
+horizontal at release (Clanet's β is the same angle at impact: equal for the default 1 mm ``height``; from
+higher up gravity steepens it, 5° at release from 1 m at 8 m/s meets the water at ~29°). ``heading`` turns the whole throw about the
 vertical. ``spin`` is the angular speed about the face normal, positive
 counter-clockwise seen from above.
 
@@ -60,7 +61,8 @@ class Throw:
     tilt: jax.Array
     """() angle of the face to the water, leading edge up [rad], in (-π/2, π/2)."""
     attack: jax.Array
-    """() angle of the velocity below the horizontal [rad], in [-π/2, π/2]."""
+    """() angle of the velocity below the horizontal at release [rad], in [-π/2, π/2] (the impact angle, Clanet's
+    β, for a release just above the water, the default ``height``)."""
     spin: jax.Array
     """() angular speed about the face normal [rad/s], in [-1000π, 1000π] (±500 rev/s); positive is
     counter-clockwise seen from above."""
