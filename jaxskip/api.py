@@ -238,7 +238,8 @@ class ThrowResult:
         (how the run is stored and differentiated, not what it computes). ``energy``: the stone's mechanical
         energy (:meth:`energy`'s ``"total"``) at ``release``, its ``peak`` and ``peak_time`` [s], at the ``end``,
         and its ``gain``, the most it ever rose above an earlier value [J] (energy the water added; rounding
-        only, ~1e-9 J, where the law is passive). ``water`` (only with a height field): :attr:`field` without its ``frames``."""
+        only, ~1e-9 J, where the law is passive). ``water`` (only with a height field): :attr:`field` without its
+        ``frames``, and their ``units`` (:data:`WATER_UNITS`)."""
         t = self.throw
         f = self.config.force
         return {
@@ -280,7 +281,8 @@ class ThrowResult:
             },
             **({"energy": self._energy_summary()} if self.rigid is not None else {}),
             "wall_time": self.wall_time,
-            **({"water": {k: v for k, v in self.field.items() if k != "frames"}} if self.field else {}),
+            **({"water": {**{k: v for k, v in self.field.items() if k != "frames"}, "units": WATER_UNITS}}
+               if self.field else {}),
         }
 
 
@@ -433,6 +435,11 @@ _start = functools.partial(jax.jit, static_argnames=("contacts",))(_release)
 #: 40 steps of 0.25 ms). Measured on the default window: a snapshot per 40 steps costs ~0.03 s more over a
 #: throw than one per 1000 (2026-12-06), and gives the 30 frames of the default throw's 0.38 s.
 FIELD_CHUNK_TIME = 0.01
+
+#: Units of the entries of :attr:`ThrowResult.field` (without ``frames``) as ``to_dict()["water"]``, the CLI's
+#: ``--json`` and a trajectory JSON give them, under ``"units"`` (``volume_change`` is relative).
+WATER_UNITS = {"shape": "columns", "spacing": "m", "depth": "m", "time_step": "s", "substeps": "-", "clamp": "-",
+               "boundary": "-", "volume_change": "-"}
 
 #: Largest rise of a held-tilt throw's mechanical energy above an earlier value, as a fraction of its release
 #: value, that :func:`simulate` lets pass without a :class:`jaxskip.StabilityWarning`. With the tilt held no face

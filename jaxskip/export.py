@@ -37,7 +37,7 @@ import numpy as np
 from . import quaternion as quat
 from ._checks import ParameterError, check_range
 from ._files import writing
-from .api import ThrowResult
+from .api import WATER_UNITS, ThrowResult
 from .body import RigidStone, body_frame
 from .mesh import TriMesh, obj_text, write_obj
 from .simulate import _momentum_from_spin, _one_float_type, free_rotation
@@ -374,9 +374,6 @@ def write_trajectory(result, path, fps: float = 60.0, mesh: TriMesh | None = Non
     return obj
 
 
-#: Units of a trajectory JSON's ``"water"`` entries (the keys :attr:`jaxskip.ThrowResult.field` has).
-WATER_UNITS = {"shape": "columns", "spacing": "m", "depth": "m", "time_step": "s", "substeps": "-", "clamp": "-",
-               "boundary": "-", "volume_change": "-"}
 
 
 def spin_per_frame(result, fps: float) -> float:

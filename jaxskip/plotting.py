@@ -316,11 +316,17 @@ def plot_water(result, stone=None, path=None, *, frame=None):
     return fig
 
 
+#: Narrowest colour scale of the water pictures [mm], 0.1 um: still water (a throw that never touched it) was drawn
+#: on a scale of ±1e-6 mm, where rounding noise (~1e-14 mm) could show as ripples (a review); a drop's few
+#: micrometres still get their own scale.
+ELEVATION_FLOOR = 1e-4
+
+
 def _elevation_limit(frames, depth) -> float:
     """Colour scale [mm] of the water pictures: the 99.5th percentile of |elevation| over all frames,
     not the maximum — one spike under the stone (tens of mm in a single column) would otherwise wash
     out every ripple. Elevations beyond it are drawn at the end of the scale (clipped)."""
-    return max(float(np.percentile(np.abs(np.stack([f[2] for f in frames]) - depth), 99.5)) * 1e3, 1e-6)
+    return max(float(np.percentile(np.abs(np.stack([f[2] for f in frames]) - depth), 99.5)) * 1e3, ELEVATION_FLOOR)
 
 
 def _check_result(result):
@@ -418,7 +424,9 @@ def animate_throw(result, stone, path, *, fps: int = 20):
         for f in _stone_world(stone, position, orientation):
             top.fill(f[:, 0], f[:, 1], color="0.3", alpha=0.6, lw=0)
         held = f" (water: {water_time[i]:.3f} s)" if water_time[i] < t else ""
-        top.set_title(f"t = {t:.3f} s{held}{slow}; colours clipped at ±{lim:.2g} mm", fontsize=9)
+        # (two lines: with the water's own time added the one line ran past the figure's left edge; a review)
+        top.set_title(f"t = {t:.3f} s{held}\n{slow.lstrip('; ')}{'; ' if slow else ''}colours clipped at "
+                      f"±{lim:.2g} mm", fontsize=9)
         top.set_xlabel("x [m]")
         top.set_ylabel("y [m]")
         seen = times <= t

@@ -141,6 +141,8 @@ def test_water_field_json_animation_and_picture(tmp_path):
     w = out["water"]
     assert w["shape"] == [64, 64] and w["spacing"] == 0.01 and 0 < w["time_step"] <= 1e-3 and w["substeps"] == 1
     assert abs(w["volume_change"]) < 0.05
+    # (2026-12-07, a review: the units were in docs/water.md only, where the rest of the JSON names its units)
+    assert w["units"]["spacing"] == "m" and w["units"]["time_step"] == "s" and set(w["units"]) >= set(w) - {"units"}
     assert gif.read_bytes()[:6] in (b"GIF89a", b"GIF87a") and gif.stat().st_size > 10_000
     assert png.read_bytes()[:4] == b"\x89PNG"
 
