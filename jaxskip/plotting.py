@@ -44,6 +44,21 @@ def _number_contacts(side, xs, xlim, fontsize: float = 7.0, rows: int = 3, last_
                           fontsize=fontsize, color="#d1495b")
 
 
+def _one_row_legend(side) -> None:
+    """The side view's legend: one row under the water line, below the contact numbers, made compact where it
+    would run past the axes (a narrow panel of a grid, ``plot_throw(ax=...)``: "in contact (numbered)" ran ~90 px
+    past the right edge; a review)."""
+    legend = side.legend(loc="lower left", ncol=3, fontsize=8, frameon=False)
+    try:
+        renderer = side.figure.canvas.get_renderer()
+        too_wide = legend.get_window_extent(renderer).width > side.get_window_extent(renderer).width
+    except AttributeError:      # (a canvas without a renderer to measure with: the plain legend)
+        return
+    if too_wide:
+        side.legend(loc="lower left", ncol=3, fontsize=7, frameon=False, handlelength=1.2, columnspacing=0.8,
+                    handletextpad=0.4, borderaxespad=0.2)
+
+
 def plot_throw(result, path=None, *, ax=None):
     """Draw a :class:`jaxskip.api.ThrowResult`: side view (trajectory, water line, contacts) and top view.
 
@@ -112,7 +127,7 @@ def plot_throw(result, path=None, *, ax=None):
         outcome += f" ({', '.join(other)})"
     wide = side.bbox.width / side.figure.dpi >= 6.0       # inches of axis
     side.set_title(f"{throw}  →  {outcome}" if wide else f"{throw}\n→  {outcome}", fontsize=10 if wide else 9)
-    side.legend(loc="lower left", ncol=3, fontsize=8, frameon=False)   # one row under the water line, below the numbers
+    _one_row_legend(side)
 
     # a throw that never moves sideways or downrange (straight down) is one point: drawn as one (a bare line of
     # zero length left the panel blank; a review)

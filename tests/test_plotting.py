@@ -193,6 +193,20 @@ def test_the_side_view_draws_into_subfigures():
     plt.close(fig)
 
 
+def test_a_narrow_side_views_legend_stays_inside_it(held_disk):
+    """(2026-12-07, a review) In a grid of panels (notebooks/optimize_throw.py: three columns of 16.5 inches) the
+    side view's one-row legend ran ~90 px past the axes' right edge; it is made compact where it would."""
+    import matplotlib.pyplot as plt
+
+    fig, axes = plt.subplots(2, 3, figsize=(13.0, 5.5), height_ratios=[2.2, 1], layout="constrained")
+    plot_throw(held_disk, ax=(axes[0, 0], axes[1, 0]))
+    fig.canvas.draw()
+    renderer = fig.canvas.get_renderer()
+    legend, box = axes[0, 0].get_legend().get_window_extent(renderer), axes[0, 0].get_window_extent(renderer)
+    assert box.x0 <= legend.x0 and legend.x1 <= box.x1, (legend, box)
+    plt.close(fig)
+
+
 def test_the_contact_the_stone_ended_in_is_marked(held_disk):
     """Clanet's disk makes 7 bounces in 8 contacts and sinks in the 8th: numbered "8 (sank)", so the
     numbers do not read as 8 bounces under a title of 7."""
