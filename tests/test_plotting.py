@@ -65,7 +65,6 @@ def test_the_first_and_the_last_contact_are_always_numbered():
 
 # --- the side view's curves and the water pictures (jaxskip/plotting.py) ---------------------------
 
-import math  # noqa: E402
 
 import pytest  # noqa: E402
 
