@@ -374,8 +374,6 @@ def write_trajectory(result, path, fps: float = 60.0, mesh: TriMesh | None = Non
     return obj
 
 
-
-
 def spin_per_frame(result, fps: float) -> float:
     """The largest angle [rad] the stone of ``result`` turns between two frames at ``fps`` [1/s]: the largest
     angular speed of its trajectory over ``fps`` (0 with the tilt held, where the stone does not turn). Above

@@ -3,10 +3,11 @@ r"""A throw: how the stone leaves the hand (or the catapult), and its initial st
 Angles (physics.md §1): ``tilt`` is the angle of the stone's face to the
 water surface, leading edge up (Bocquet's θ, Clanet's α; the "magic angle"
 ≈ 20° is a tilt). ``attack`` is the angle of the velocity *below* the
-horizontal at release (Clanet's β is the same angle at impact: equal for the default 1 mm ``height``; from
-higher up gravity steepens it, 5° at release from 1 m at 8 m/s meets the water at ~29°). ``heading`` turns the whole throw about the
-vertical. ``spin`` is the angular speed about the face normal, positive
-counter-clockwise seen from above.
+horizontal at release (Clanet's β is the same angle at impact: equal for the
+default 1 mm ``height``; from higher up gravity steepens it, 5° at release
+from 1 m at 8 m/s meets the water at ~29°). ``heading`` turns the whole throw
+about the vertical. ``spin`` is the angular speed about the face normal,
+positive counter-clockwise seen from above.
 
 :class:`Throw` holds SI values (m/s, rad, rad/s, m). Degrees and rev/s belong
 to the edges of the program: use :meth:`Throw.from_degrees`, which converts once.
