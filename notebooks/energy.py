@@ -20,7 +20,9 @@
 #   own velocity moves into the water, the friction at the centre of mass — the water's power is never positive;
 # * the tilt held (`attitude="fixed"`, the high-spin limit): no rotation to pump.
 #
-# Run: `python notebooks/energy.py` (quick mode, `JAXSKIP_QUICK=1`, is the same run: four throws).
+# Run: `python notebooks/energy.py` (quick mode, `JAXSKIP_QUICK=1`, is the same run: four throws); figures go to
+# `JAXSKIP_NOTEBOOK_OUT` (default `notebooks/figures/`). Run time on the 2-core development machine
+# (2026-12-07): full ~10 s, quick the same run (wall time; load moves it).
 
 # %%
 import matplotlib.pyplot as plt

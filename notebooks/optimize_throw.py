@@ -19,7 +19,9 @@
 # norms explode, because the rollout is chaotic and a gradient over a whole throw measures that
 # chaos rather than the count's trend (`benchmarks/README.md`, session 14).
 #
-# `python notebooks/optimize_throw.py` (full) or `JAXSKIP_QUICK=1 python notebooks/optimize_throw.py`.
+# `python notebooks/optimize_throw.py` (full) or `JAXSKIP_QUICK=1 python notebooks/optimize_throw.py`; figures go to
+# `JAXSKIP_NOTEBOOK_OUT` (default `notebooks/figures/`). Run time on the 2-core development machine
+# (2026-12-07): full ~40 s, quick ~15 s (wall time; load moves it).
 
 # %%
 import matplotlib.pyplot as plt

@@ -14,10 +14,16 @@
 # finer time step, RK4, float64; 5× in quick mode). Error: the share of the batch whose bounce count differs from
 # the reference, plus the median relative errors of the first contact's duration and of the
 # trajectory (where the stone touches down a second time, after one contact and one flight). Cost: wall time
-# per throw of the batched, compiled rollout (compile time excluded; the fastest of 3 runs). The default
+# per throw of the compiled rollout (compile time excluded): for the paper stone and the disk series the
+# whole batch run to completion by `simulate_batch` (the fastest of 3 runs, divided by the batch size);
+# for the water series (flat and height field) a subset run one throw at a time. The two bases differ
+# (the default configuration costs more per throw batched than one at a time, printed below), so costs
+# compare within a series, not across; the chart's legend says which basis each series has. The default
 # configuration is marked.
 #
-# `python notebooks/speed_vs_accuracy.py` (full: 128 throws) or `JAXSKIP_QUICK=1 ...` (CI: 16 throws; 3 of them on the height field).
+# `python notebooks/speed_vs_accuracy.py` (full: 128 throws) or `JAXSKIP_QUICK=1 ...` (CI: 16 throws; 3 of
+# them on the height field); figures go to `JAXSKIP_NOTEBOOK_OUT` (default `notebooks/figures/`). Run time
+# on the 2-core development machine (2026-12-07): full ~3–4 min, quick ~35 s (wall time; load moves it).
 
 # %%
 import dataclasses
@@ -143,8 +149,9 @@ for n in segs:
 # a moving 64 cm window of O'Brien–Hodgins columns (1 cm, smooth clamp, a water step every 1 ms of
 # stone time). Reference: the same window at half the spacing (0.5 cm, 128² columns) with the
 # paper's clamp, stepped every 0.25 ms in full mode. Each throw runs on its own (compiled once per
-# configuration; compile excluded), on a subset of the batch: a coupled throw costs ~4–20× a flat
-# one (the chart's cost axis gives the figures). Full mode also varies the water's step (0.5 and 4 ms against the default 1 ms): the
+# configuration; compile excluded), on a subset of the batch — flat water too, so that the series
+# compares like with like: a coupled throw costs 2.6–7.2× a flat one, timed the same way (printed
+# below; full mode, 2026-12-07). Full mode also varies the water's step (0.5 and 4 ms against the default 1 ms): the
 # multirate coupling's own knob.
 
 # %%
@@ -192,6 +199,12 @@ print(f"water reference: {fine[0].spacing * 100:g} cm columns {fine[0].shape}, {
       f"{(fine[1] or 1e-3) * 1e3:g} ms: mean {ref_water[0].mean():.2f} bounces, {ref_water[3]:.2f} s per throw")
 for label, (grid, water_dt) in [("flat water (library default)", (None, None))] + list(water_grids.items()):
     report("water: " + label, run_field(grid, water_dt), ref_water, width=43)
+flat_one = next(r[1] for r in rows if r[0] == "water: flat water (library default)")
+field_cost = [r[1] / flat_one for r in rows if r[0].startswith("water: field")]
+default_batch = next(r[1] for r in rows if r[0] == "default (euler, dt 2.5e-4)")
+print(f"cost bases: the default configuration on flat water costs {default_batch * 1e3:.2f} ms/throw batched "
+      f"(simulate_batch, {N} throws to completion) and {flat_one * 1e3:.2f} ms/throw one throw at a time (the first {NW}); "
+      f"the height field costs {min(field_cost):.1f}-{max(field_cost):.1f}x flat water, both one at a time")
 
 # %% [markdown]
 # ## The Pareto chart
@@ -299,22 +312,26 @@ def place_labels(ax, labels, fontsize=7):
 
 
 fig, ax = plt.subplots(figsize=(9, 6), dpi=110)
-ax.scatter(cost * 1e3, err, color="C0", label="paper stone: dt, integrator, flight, clipping, precision")
+ax.scatter(cost * 1e3, err, color="C0", label=f"paper stone: dt, integrator, flight, clipping, precision\n"
+                                              f"(cost: batch of {N} to completion)")
 order = sorted(front, key=lambda i: cost[i])
 ax.plot(cost[order] * 1e3, err[order], "k--", lw=0.8, label="Pareto front")
-ax.scatter([cost[d] * 1e3], [err[d]], s=160, facecolors="none", edgecolors="C3", lw=2, label="default")
+ax.scatter([cost[d] * 1e3], [err[d]], s=160, facecolors="none", edgecolors="C3", lw=2,
+           label="default (batched; the same configuration one throw at a time: 'flat water')")
 dc = np.array([r[1] for r in disk_rows])
 de = np.array([error(r) for r in disk_rows])
-ax.plot(dc * 1e3, np.maximum(de, FLOOR), "s-", color="C2", label="disk: mesh resolution (own reference)")
+ax.plot(dc * 1e3, np.maximum(de, FLOOR), "s-", color="C2",
+        label=f"disk: mesh resolution (own reference; cost: batch of {N} to completion)")
 wc = np.array([r[1] for r in water_rows])
 we = np.array([error(r) for r in water_rows])
-ax.scatter(wc * 1e3, np.maximum(we, FLOOR), marker="^", color="C4", label=f"water: flat vs height field ({NW} throws, one at a time; own reference)")
+ax.scatter(wc * 1e3, np.maximum(we, FLOOR), marker="^", color="C4",
+           label=f"water: flat vs height field (own reference;\ncost: {NW} throws one at a time, not batched)")
 ax.set_xscale("log")
 ax.set_yscale("log")
 for fmt in (ax.xaxis.set_major_formatter, ax.xaxis.set_minor_formatter):
     fmt(LogFormatter(labelOnlyBase=False))   # plain numbers (2, 3, 10), not 2×10⁰
 ax.set_ylim(FLOOR / 2, 5 * max(err.max(), we.max(), de.max()))
-ax.set(xlabel="wall time per throw, batch to completion [ms]",
+ax.set(xlabel="wall time per throw [ms] (paper stone, disk: batch to completion; water: one throw at a time)",
        ylabel="error: count share + first-contact + trajectory (0 at 1e-3)",
        title=f"speed vs accuracy over {N} random throws (reference: dt {ref_dt:g} s, RK4, float64)")
 ax.legend(fontsize=8, loc="lower left")
@@ -324,7 +341,8 @@ fig.tight_layout()
 labels = ([(paper_rows[d][0], (cost[d] * 1e3, err[d]), "k")]
           + [(r[0], (cost[i] * 1e3, err[i]), "k") for i, r in enumerate(paper_rows) if i != d]
           + [(r[0].replace("disk, ", ""), (c * 1e3, max(e, FLOOR)), "C2") for r, c, e in zip(disk_rows, dc, de)]
-          + [(r[0].replace("water: ", ""), (c * 1e3, max(e, FLOOR)), "C4") for r, c, e in zip(water_rows, wc, we)])
+          + [(r[0].replace("water: ", "").replace("(library default)", "(the default, one at a time)"),
+              (c * 1e3, max(e, FLOOR)), "C4") for r, c, e in zip(water_rows, wc, we)])
 place_labels(ax, labels)
 path = RUN.figure("speed_vs_accuracy.png")
 fig.savefig(path, dpi=110)
@@ -332,7 +350,8 @@ RUN.done(path)
 
 # %% [markdown]
 # ## Reading the chart
-# Full mode on the 2-core development machine (November 2026; the figures print above):
+# Full mode on the 2-core development machine (2026-12-07; the figures print above; the machine is
+# shared, and its timings move by tens of per cent between runs — the errors do not):
 #
 # * **Bounce counts of the free stone are chaotic.** Even a 2.5× finer step or RK4 disagrees with
 #   the 10× finer RK4 reference on 16–18 % of the throws, the default on 25 %; the first contact's
@@ -343,10 +362,16 @@ RUN.done(path)
 # * **Mesh.** From 32 to 512 triangles the disk's count disagreement with 1024 triangles falls
 #   from 19 % to 5 % at roughly linear cost; the paper's 38-triangle stone is at the coarse end.
 # * **Water.** The height field is *not converged* in its spacing: at 1 cm the counts differ from
-#   the 0.5 cm reference on ~70 % of throws, the first contact by ~16 % and the second touchdown
-#   by ~19 %, whatever the clamp (session 15, reference stepped every 0.25 ms; session 13, with a
+#   the 0.5 cm reference on 66.7–75.0 % of throws, the first contact by 14.1 % and the second
+#   touchdown by 16.0–16.9 %, whatever the clamp (reference stepped every 0.25 ms; session 13, with a
 #   1 ms reference: ~75 %, ~21 %, 26–27 %). Its time step matters less than its spacing: a water
-#   step of 0.5 ms instead of the default 1 ms gains little (15 % / 17 %) at 1.5× the cost, 4 ms
-#   loses a lot (25 % / 37 %) for a 1.6× saving — so 1 ms stays. The coupling also changes the
-#   contact itself: flat water's first contact differs from the 0.5 cm field's by ~110 %. Flat
-#   water stays the library's default; the coupled field is an experimental option (docs/water.md).
+#   step of 0.5 ms instead of the default 1 ms gains nothing (first contact 16.0 %, worse than the
+#   default step's 14.1 %; second touchdown 16.5 % against 16.9 %) at 1.6× the cost (19.42 against
+#   12.46 ms), 4 ms loses a lot (33.8 % / 45.1 %) for a 1.8× saving (6.90 ms) — so 1 ms stays. The
+#   coupling also changes the contact itself: flat water's first contact differs from the 0.5 cm
+#   field's by ~110 %. Flat water stays the library's default; the coupled field is an experimental
+#   option (docs/water.md).
+# * **Cost bases.** The water series is timed one throw at a time on the first 24 throws, the
+#   rest as batches of 128 run to completion: the default configuration costs 7.31 ms/throw batched
+#   and 2.69 ms/throw one at a time (the "flat water" point), so the water points' costs compare
+#   with each other (the height field costs 2.6–7.2× flat water), not with the paper stone's.

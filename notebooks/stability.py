@@ -9,15 +9,18 @@
 #
 # (1) the stone's contact time step: beyond which the integrator creates energy in a contact;
 # (2) the water's time step: growth of ripples around the derived bound √3/2 · l/√(gH);
-# (3) gradients against the horizon: the norm of d(distance)/d(throw) of the default throw as the
-# rollout grows over many bounces, and the spread of the smooth bounce count's gradient over random
+# (3) gradients against the horizon: the derivatives of the default throw's x after n steps (the
+# distance, once the throw has ended within the n steps) with respect to its speed, tilt, attack and
+# spin, each in its own unit, as the rollout grows over many bounces, and the spread of the smooth bounce count's gradient over random
 # throws of the human box — its tail grows exponentially, the rollout being chaotic; (4) the smooth bounce count's width against the spread of its gradient;
 # (5) float32: where single precision fails — the smooth clipping's cancellation and the gradient
 # over long rollouts.
 # The library's guards are marked: `SimConfig` caps `dt` at 0.01 s, `WaterGrid` refuses a water
 # step beyond the bound, `optimize` clips gradients to norm 1 and zeroes non-finite ones.
 #
-# `python notebooks/stability.py` (full) or `JAXSKIP_QUICK=1 python notebooks/stability.py`.
+# `python notebooks/stability.py` (full) or `JAXSKIP_QUICK=1 python notebooks/stability.py`; figures go to
+# `JAXSKIP_NOTEBOOK_OUT` (default `notebooks/figures/`). Run time on the 2-core development machine
+# (2026-12-07): full ~4.5–5.5 min, quick ~40 s (wall time; load moves it).
 
 # %%
 import dataclasses
@@ -103,7 +106,11 @@ for n in horizons:
     g = jax.jit(jax.grad(lambda t, c=cfg: rollout(c, t, stone, water)[0].position[0]))(Throw.from_degrees())
     grads64[n] = np.array([float(getattr(g, k)) for k in FIELDS])
 norms = [float(np.linalg.norm(grads64[n])) for n in horizons]
-print("|d x_end / d throw| vs steps: " + ", ".join(f"{n}: {v:.3g}" for n, v in zip(horizons, norms)))
+# (the norm mixes units: m per m/s, m per rad, m per rad, m per rad/s; printed for the record, charted per component)
+print("|d x_n / d throw| (norm over speed, tilt, attack, spin in SI) vs steps n: "
+      + ", ".join(f"{n}: {v:.3g}" for n, v in zip(horizons, norms)))
+print("d x_n / d (speed [m/s], tilt [rad], attack [rad], spin [rad/s]) vs steps n: "
+      + "; ".join(f"{n}: " + ", ".join(f"{v:+.3g}" for v in grads64[n]) for n in horizons))
 
 # The smooth bounce count's gradient over random throws of the human box, in the search's
 # coordinates (optimize.gradient_search): its percentiles against the horizon.
@@ -125,8 +132,14 @@ print(f"smooth count, |gradient| per unit u over {n_random} random throws, p50/p
 
 # %% [markdown]
 # ## 4. The smooth bounce count: width against gradient spread
-# d(smooth count)/d(speed) at 16 speeds a few mm/s apart: a narrow width follows the true count's
-# steps (spiky gradients), a wide one smooths them out (and biases the count).
+# d(smooth count)/d(speed) of the default throw at 16 speeds 5 mm/s apart (8.000–8.075 m/s), 1500
+# steps, for widths from 0.05 to 1 mm. The expectation was that a narrow width follows the true
+# count's steps (spiky gradients) and a wide one smooths them out (and biases the count). Measured
+# (full mode, 2026-12-07), it does not: the spread is 215, 137, 312, 728 and 587 per m/s at
+# 0.05, 0.1, 0.2, 0.5 and 1 mm — smallest at 0.1 mm, largest at the two widest — and the mean is
+# −41, −26, −82, −10 and +215 per m/s: it flips sign, and every mean is smaller than its spread. Over
+# a whole throw the smooth count's gradient is as chaotic as the rollout it differentiates
+# (section 3), whatever the width; the count's trend in speed is not read from one width's gradient.
 
 # %%
 speeds = 8.0 + 0.005 * np.arange(16 if not QUICK else 6)
@@ -211,14 +224,20 @@ ax[1].semilogy(factors, growth, "o-")
 ax[1].axvline(1.0, color="C3", ls="--", label="bound (refused beyond)")
 ax[1].set(xlabel="dt / bound", ylabel="ripple growth", title="(2) water time step")
 ax[1].legend(fontsize=7)
-ax[2].loglog(horizons, norms, "o-", color="k", label="default throw: |d distance / d throw| [m per unit]")
+UNITS = {"speed": "s (m per m/s)", "tilt": "m/rad", "attack": "m/rad", "spin": "m per rad/s"}
+for k, marker, color in zip(FIELDS, "osD^", ("C0", "C1", "C2", "C9")):   # (red: the percentiles)
+    ax[2].loglog(horizons, np.maximum(np.abs([grads64[n][FIELDS.index(k)] for n in horizons]), 1e-17),
+                 marker + "-", color=color, ms=4, lw=0.9, label=f"default throw: |d x_n / d {k}| [{UNITS[k]}]")
 for j, (q, style) in enumerate(((50, ":"), (90, "--"), (99, "-"))):
     ax[2].loglog(chaos_horizons, np.maximum(chaos[:, j], 1e-17), "o" + style, color="C3",
                  label=f"smooth count, {q}th percentile over {n_random} random throws [per unit u]")
 ax[2].axhline(EXPLODING, color="C3", lw=0.6, alpha=0.5,
               label=f"'exploding' beyond {EXPLODING:g} (optimize.EXPLODING, gradient_health)")
-ax[2].set(xlabel="rollout steps", ylabel="|gradient|", title="(3) gradient vs horizon: the tail explodes")
-ax[2].legend(fontsize=6)
+ax[2].set(xlabel="rollout steps n", ylabel="|gradient| (units in the legend)",
+          title="(3) gradient vs horizon: the tail explodes\n(x_n: the stone's x after n steps)")
+lo, hi = ax[2].get_ylim()
+ax[2].set_ylim(lo, hi * (hi / lo) ** 0.6)   # the data in the lower ~60 %, the legend above
+ax[2].legend(fontsize=6, loc="upper left")
 ax[3].semilogx(widths, spread, "o-")
 ax[3].axvline(2e-4, color="C3", ls="--", label="default width")
 ax[3].set(xlabel="width [m]", ylabel="std of d(count)/d(speed) [per m/s]", title="(4) surrogate width")
@@ -226,7 +245,8 @@ ax[3].legend(fontsize=7, loc="upper right")
 few_points_note(ax[3], len(widths))
 for name, e in clip_err.items():
     ax[4].loglog(kappas, np.maximum(e, 1e-17), "o-", label=name)
-ax[4].axvspan(2e3, 2e4, color="C2", alpha=0.15, label="sharpness used (notebooks)")
+ax[4].axvspan(2e3, 2e4, color="C2", alpha=0.15,
+              label="kappa of the two smooth-clipping variants\nin speed_vs_accuracy.py (library default: exact)")
 ax[4].set(xlabel="sharpness kappa [1/m]", ylabel="relative wet-area error vs exact",
           title="(5a) smooth clipping: convergence, then cancellation")
 ax[4].legend(fontsize=7)

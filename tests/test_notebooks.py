@@ -35,6 +35,60 @@ def run_notebook(name, out):
     return p.stdout
 
 
+@pytest.mark.parametrize("value, quick", [("1", True), ("true", True), ("TRUE", True), ("Yes", True), ("0", False),
+                                          ("false", False), ("No", False), ("", False), (None, False)])
+def test_quick_mode_reads_the_usual_spellings(value, quick, tmp_path, monkeypatch):
+    """``JAXSKIP_QUICK=true`` is quick (it once ran the full notebook silently: only "1" was)."""
+    from jaxskip.notebook import notebook_mode
+
+    monkeypatch.setenv("JAXSKIP_NOTEBOOK_OUT", str(tmp_path))
+    if value is None:
+        monkeypatch.delenv("JAXSKIP_QUICK", raising=False)
+    else:
+        monkeypatch.setenv("JAXSKIP_QUICK", value)
+    assert notebook_mode("example").quick is quick
+
+
+@pytest.mark.parametrize("value", ["2", "quick", "on", "y"])
+def test_quick_mode_refuses_other_values(value, tmp_path, monkeypatch):
+    from jaxskip.notebook import notebook_mode
+
+    monkeypatch.setenv("JAXSKIP_NOTEBOOK_OUT", str(tmp_path))
+    monkeypatch.setenv("JAXSKIP_QUICK", value)
+    with pytest.raises(ValueError, match="JAXSKIP_QUICK"):
+        notebook_mode("example")
+
+
+def test_unwritable_figure_folder_is_refused_at_set_up(tmp_path, monkeypatch):
+    """An existing folder that cannot be written fails at set-up, naming JAXSKIP_NOTEBOOK_OUT (it failed
+    at ``savefig``, after the whole computation, with a bare PermissionError)."""
+    from jaxskip.notebook import notebook_mode
+
+    folder = tmp_path / "read-only"
+    folder.mkdir()
+    folder.chmod(0o555)
+    try:
+        if os.access(folder, os.W_OK):   # root writes anyway: a folder nobody can create files in
+            if not os.path.isdir("/proc"):
+                pytest.skip("running as root without /proc: no unwritable folder to test with")
+            folder = "/proc"
+        monkeypatch.setenv("JAXSKIP_NOTEBOOK_OUT", str(folder))
+        monkeypatch.delenv("JAXSKIP_QUICK", raising=False)
+        with pytest.raises(OSError, match="JAXSKIP_NOTEBOOK_OUT"):
+            notebook_mode("example")
+        assert not [f for f in os.listdir(tmp_path / "read-only")]   # (the probe file is not left behind)
+    finally:
+        (tmp_path / "read-only").chmod(0o755)
+
+
+def test_missing_figure_folder_is_made(tmp_path, monkeypatch):
+    from jaxskip.notebook import notebook_mode
+
+    monkeypatch.setenv("JAXSKIP_NOTEBOOK_OUT", str(tmp_path / "a" / "b"))
+    run = notebook_mode("example")
+    assert os.path.isdir(run.out) and os.listdir(run.out) == []
+
+
 @pytest.mark.parametrize("name", NOTEBOOKS)
 def test_notebook_runs_in_quick_mode(name, tmp_path):
     out = run_notebook(name, tmp_path)
