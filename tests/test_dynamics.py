@@ -622,3 +622,28 @@ def test_a_held_tilt_that_gains_energy_is_warned_of_as_the_steps_fault(paper, wa
             w.simplefilter("error", StabilityWarning)
             r = simulate(throw, stone, water=water, config=SimConfig(attitude="fixed", duration=1.0, dt=dt))
         assert r.to_dict()["energy"]["gain"] < 1e-9 * r.to_dict()["energy"]["release"], r.to_dict()["energy"]
+
+
+def test_a_flight_jump_from_the_first_dry_step_does_not_merge_the_hop(paper, water):
+    """(2026-12-07, a review) A bounce was confirmed only from a flight's second dry step, so where the first dry
+    step was a jump over the whole hop (the tilt held, where a jump can cross a flight) the hop was merged into
+    the contact: the held default throw made 11 / 8 / 2 / 0 bounces at max_flight_step 0.02 / 0.05 / 0.1 / 0.3 s
+    on one and the same trajectory, and a clearance of 0.1 mm lost a bounce at the default. The jump's peak bound
+    (a lower bound of the lowest point's path) now confirms the bounce on the first dry step; the counts equal
+    fixed-step flight's, and each contact ends where the stone left the water, before the next begins."""
+    from jaxskip import simulate
+
+    step = simulate(Throw.from_degrees(), paper, water=water, config=SimConfig(attitude="fixed", flight="step"))
+    assert step.bounces == 11
+    for longest in (0.02, 0.05, 0.1, 0.3):
+        r = simulate(Throw.from_degrees(), paper, water=water,
+                     config=SimConfig(attitude="fixed", max_flight_step=longest))
+        assert (r.bounces, r.n_contacts) == (step.bounces, step.n_contacts), (longest, r.bounces, r.n_contacts)
+        for c, after in zip(r.contacts, r.contacts[1:]):
+            assert c.t_start < c.t_end < after.t_start and c.x_end < after.x, (longest, c, after)
+        for c, ref in zip(r.contacts, step.contacts):
+            assert c.t_end == pytest.approx(ref.t_end, abs=2e-3), (longest, c, ref)   # (the steps differ)
+    for clearance in (1e-4, 3e-4):
+        counts = [simulate(Throw.from_degrees(), paper, water=water, config=SimConfig(
+            attitude="fixed", flight=flight, bounce_clearance=clearance)).bounces for flight in ("jump", "step")]
+        assert counts[0] == counts[1] == 12, (clearance, counts)

@@ -33,31 +33,56 @@ def test_umin_has_a_magic_angle():
     assert 5.0 < r["best_tilt_fit"] < 40.0
 
 
-@pytest.mark.xfail(strict=True, raises=AssertionError, reason=(
-    "Known miss (issue 4): the model's magic angle, the vertex of U_min(tilt) for the Clanet disk at its "
-    "reference conditions, is 14.1-14.3 deg (1.76 m/s); Clanet et al. put it between 15 and 25 deg. Converged in "
-    "mesh and dt (next test); docs/model.md, 'Calibration', gives the physical reason. Not tuned away."))
-def test_magic_angle_lies_between_15_and_25_degrees():
+def _clanet_umin_curve():
+    """U_min(tilt) of the Clanet disk at its reference conditions (tilt held, beta = 20 deg, 65 rev/s), tilts
+    11-20 deg every 1.5 deg, bisected to 2 m/s / 2^11 ~ 1e-3 m/s: (tilts, U_min) [deg, m/s]."""
     from jaxskip import SimConfig, Throw, clanet_disk, rigid_stone, simulate_batch
     from jaxskip.stones import ALUMINIUM_DENSITY
 
     stone = rigid_stone(clanet_disk(), density=ALUMINIUM_DENSITY)
     tilts = np.arange(11.0, 20.5, 1.5)
     lo, hi = np.full(tilts.size, 1.0), np.full(tilts.size, 3.0)
-    for _ in range(11):                      # bisection: 2 m/s / 2^11 ~ 1e-3 m/s
+    for _ in range(11):
         mid = 0.5 * (lo + hi)
         ok = simulate_batch(Throw.from_degrees(speed=mid, tilt=tilts, attack=20.0, spin=65.0), stone,
                             config=SimConfig(record=False, attitude="fixed", max_steps=5000)).bounces > 0
         hi, lo = np.where(ok, mid, hi), np.where(ok, lo, mid)
-    vertex, _ = parabola_minimum(tilts, hi)
-    assert 15.0 <= vertex <= 25.0, (vertex, dict(zip(tilts.tolist(), hi.round(3).tolist())))
+    return tilts, hi
+
+
+@pytest.mark.xfail(strict=True, raises=AssertionError, reason=(
+    "Known miss (issue 4): the model's magic angle, the vertex of U_min(tilt) for the Clanet disk at its "
+    "reference conditions, is 14.0-14.5 deg (1.74-1.75 m/s); Clanet et al. put it between 15 and 25 deg. Converged "
+    "in mesh and dt to that range (next test); docs/model.md, 'Calibration', gives the physical reason. Not tuned "
+    "away."))
+def test_magic_angle_lies_between_15_and_25_degrees():
+    tilts, umin = _clanet_umin_curve()
+    vertex, _ = parabola_minimum(tilts, umin)
+    assert 15.0 <= vertex <= 25.0, (vertex, dict(zip(tilts.tolist(), umin.round(3).tolist())))
+
+
+@pytest.mark.xfail(strict=True, raises=AssertionError, reason=(
+    "Known miss (issue 4), by a hair: U_min at the model's magic angle is 1.741-1.745 m/s, 30.2-30.4 % below "
+    "Clanet's ~2.5 m/s, where the issue asks for within 30 % (>= 1.75 m/s). It read 1.76 m/s, 29.6 % below and "
+    "met, until 2026-12-07, when the tracker stopped missing the first hop near U_min (a flight jump from the "
+    "first dry step crossed it and merged it into the contact; fixed steps, the reference, agree with the jumps "
+    "now to 1e-3 m/s). Not tuned away."))
+def test_umin_at_the_magic_angle_is_within_30_percent_of_clanets():
+    tilts, umin = _clanet_umin_curve()
+    _, lowest = parabola_minimum(tilts, umin)
+    assert abs(lowest - 2.5) <= 0.3 * 2.5, (lowest, dict(zip(tilts.tolist(), umin.round(4).tolist())))
 
 
 def test_magic_angle_is_converged_in_mesh_and_time_step():
     """The model's U_min(tilt) minimum (Clanet disk, fixed tilt, beta = 20 deg, 65 rev/s) is the same
-    with a 32- or a 128-segment rim and with dt = 0.25 or 0.125 ms: the vertex moves by < 0.3 deg and
-    U_min by < 0.5 % (measured: 14.1-14.3 deg, 1.76 m/s). The ~1 deg miss of Clanet's 15-25 deg
-    window is the model's, not its discretisation's (benchmarks/README.md, session 14)."""
+    with a 32- or a 128-segment rim and with dt = 0.25 or 0.125 ms: U_min moves by < 0.5 % and the vertex
+    stays in [13.5, 15) deg, below Clanet's 15-25 deg window in every discretisation, so the miss is the
+    model's, not its discretisation's (benchmarks/README.md, session 14). Measured 2026-12-07: vertices 13.97 /
+    14.52 / 14.12 deg, U_min 1.7446 / 1.7415 / 1.7454 m/s; fixed-step flight gives 13.94 / 14.51 deg. Until that
+    day the vertex was asserted to move by < 0.3 deg (14.1-14.3 deg): the tracker then missed the first hop near
+    U_min where a flight jump crossed it, and the 128-segment vertex read 14.12 deg against fixed steps' 14.51.
+    The minimum is flat (at 128 segments U_min at 14 and 15 deg differ by 0.3 mm/s), so its vertex moves by
+    0.55 deg with the mesh."""
     from jaxskip import SimConfig, Throw, disk, rigid_stone, simulate_batch
     from jaxskip.stones import ALUMINIUM_DENSITY
 
@@ -74,7 +99,7 @@ def test_magic_angle_is_converged_in_mesh_and_time_step():
             hi, lo = np.where(ok, mid, hi), np.where(ok, lo, mid)
         found.append(parabola_minimum(tilts, hi))
     vertices, umins = np.array([f[0] for f in found]), np.array([f[1] for f in found])
-    assert np.ptp(vertices) < 0.3 and np.ptp(umins) < 0.005 * umins.mean(), found
+    assert np.all((13.5 <= vertices) & (vertices < 15.0)) and np.ptp(umins) < 0.005 * umins.mean(), found
 
 
 def test_parabola_minimum_finds_the_vertex_between_grid_points():
