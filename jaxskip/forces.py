@@ -180,7 +180,7 @@ class WaterParams:
 # speed at 20 deg tilt / 20 deg attack nearest Clanet et al.'s ~2.5 m/s (2.0 m/s) while
 # keeping the magic-angle minimum at 15-20 deg, no bounce at 50 deg, and N ~ V^2
 # (log-log slope 2.2) at grazing incidence -- figures from the session-1 calibration.
-# Today's U_min sweeps (bisection up to 8 m/s) put the minimum at 14 deg (1.76 m/s)
+# Today's U_min sweeps (bisection up to 8 m/s) put the minimum at 14 deg (1.745 m/s)
 # and find a bounce at 50 deg from 6.3 m/s: at 50 deg the disk needs a high speed,
 # but it does bounce. For the seed law C_f = 0.1 follows the
 # physics.md prototype (12-14 bounces at 5 m/s); with C_l = C_f = 1 it barely skips.
