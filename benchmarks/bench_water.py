@@ -9,7 +9,9 @@ and what the two-way coupling changes against flat water over a batch of throws.
 Sections:
   steps     water steps/s on 64^2, 128^2 and 256^2 grids for each clamp (compile time reported apart),
             and the effective memory bandwidth (bytes of state read and written per step / time)
-            against a large-array copy measured in the same run;
+            against a large-array copy measured in the same run and against the same working set
+            streamed by the simplest step (at 64^2 and 128^2 it stays in cache, where the copy does
+            not: the second is the ceiling there); every time is the best of a few runs;
   throw     the default throw, two-way coupled, with a 64^2 and a 128^2 window: wall time against
             simulated time (goal: >= 20x faster than real time with 128^2);
   coupling  a batch of random throws in the human box, flat water vs coupled: how often the bounce
@@ -97,13 +99,16 @@ def section_steps(quick):
             p = jnp.zeros(grid.shape)
             run, compile_s = _compiled(lambda s, p: jax.lax.scan(lambda c, _: (step(c, p), None), s, None,
                                                                  length=steps)[0], s0, p)
-            t = _best(lambda: run(s0, p), 2 if quick else 5) / steps
-            # State read and written each step: heights and four pipe arrays (~5 n^2 values).
-            nbytes = 2 * 5 * n * n * item
+            repeats = 2 if quick else 5
+            t = _best(lambda: run(s0, p), repeats) / steps
+            # State read and written each step (heights and four pipe arrays: 5 n^2 values each way) and the
+            # pressure read (n^2; left out before 2026-12-07, a review: bandwidths then ~10 % low).
+            nbytes = (2 * 5 + 1) * n * n * item
             bw = nbytes / t
             out[f"{n}_{clamp}"] = {"steps_per_s": 1 / t, "us_per_step": t * 1e6, "compile_s": compile_s,
                                    "GBps": bw / 1e9, "share_of_copy": bw / copy_bw, "share_of_same_size": bw / same_bw}
-            print(f"  {n:>3}^2 {clamp:<9}: {1 / t:8.0f} steps/s ({t * 1e6:7.0f} us/step, compile {compile_s:.1f} s); "
+            print(f"  {n:>3}^2 {clamp:<9}: {1 / t:8.0f} steps/s ({t * 1e6:7.0f} us/step, best of {repeats} scans; "
+                  f"compile {compile_s:.1f} s); "
                   f"{bw / 1e9:.2f} GB/s = {bw / copy_bw:.0%} of the 64 MiB copy, {bw / same_bw:.0%} of the same-size "
                   f"stream (goal >= 50 %)")
     return out
@@ -130,6 +135,7 @@ def section_throw(quick):
         out[str(n)] = {"bounces": int(tr.bounces), "sim_s": sim, "wall_s": wall, "compile_s": compile_s,
                        "faster_than_real_time": sim / wall}
         print(f"coupled, {n}^2 window: {int(tr.bounces)} bounces, {sim:.2f} s simulated in {wall:.2f} s wall "
+              f"(best of {2 if quick else 3} runs) "
               f"(compile {compile_s:.1f} s): {sim / wall:.1f}x real time (goal >= 20x at 128^2)")
     return out
 
