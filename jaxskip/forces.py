@@ -124,7 +124,8 @@ class ForceModel:
     lift's loading from each face's own, the friction acting at the centre of mass, so the water
     never adds energy and its friction cannot drive the stone like a wheel (module docstring). With
     the tilt held (``SimConfig(attitude="fixed")``) no face turns, so ``"local"`` and ``"passive"`` give
-    ``"body"``'s throw to the bit: :func:`jaxskip.simulate`, the searches and the sweeps warn."""
+    ``"body"``'s throw to rounding (positions within ~3e-15 m, the same counts; a review, 2026-12-07):
+    :func:`jaxskip.simulate`, the searches and the sweeps warn."""
     normalize_lift: bool = True
     """Seed law only: lift magnitude ``∝ cos θ`` (True, as the paper states) or ``∝ cos² θ`` (eq. 2 as printed)."""
     sharpness: float | None = None

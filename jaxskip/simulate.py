@@ -240,7 +240,7 @@ def warn_if_coarse(config: "SimConfig", stacklevel: int = 3) -> None:
 def inert_velocity_message(config: "SimConfig") -> str | None:
     """Why ``config.force.velocity`` does nothing, or None: with ``attitude="fixed"`` no face turns, so every
     face moves at the centre of mass's velocity and ``"local"`` and ``"passive"`` give the body law's throw
-    (to the bit)."""
+    (to rounding: positions within ~3e-15 m, the same counts)."""
     if config.attitude == "fixed" and config.force.velocity != "body":
         v = config.force.velocity
         return (f"velocity='{v}' has no effect with attitude='fixed': with the tilt held no face turns, so every "
