@@ -125,11 +125,11 @@ print(f"mu = C~/C = {mu_theory:.3f}; measured from the mesh impulse {-Jx / Jz:.3
 # of the mesh's 1° contacts, and μ from the mesh impulse (section 3); V is the release speed. The
 # formula is the count if every contact cost only μ M g L and the stone skipped down to rest.
 #
-# Full mode, 2026-12-07 (printed below): ℓ = 6.46 cm (median V τ at 1°); the reduced plate's 0.05°
+# Full mode, 2026-12-07 (printed below): ℓ = 6.45 cm (median V τ at 1°); the reduced plate's 0.05°
 # contacts last 2.10× its 1° ones; the mesh disk released at the water sinks in its first contact at
-# every speed (0 bounces). With μ = 0.498 and L = 2 × 6.46 = 12.9 cm the formula gives 13 bounces at
-# 4 m/s and 155 at 14 m/s; at 1° of attack the reduced model makes 5 and 53 (2.9× fewer at 14 m/s) and
-# the mesh 0 and 30 (5.2× fewer). The growth with V is near Bocquet's (log-log slopes 1.8 and 2.6;
+# every speed (0 bounces). With μ = 0.498 and L = 2 × 6.45 = 12.9 cm the formula gives 13 bounces at
+# 4 m/s and 156 at 14 m/s; at 1° of attack the reduced model makes 5 and 53 (2.9× fewer at 14 m/s) and
+# the mesh 1 and 31 (5.0× fewer). The growth with V is near Bocquet's (log-log slopes 1.8 and 2.6;
 # the dotted ∝ V² line in panel 1 is only a slope guide, pinned to the reduced model's last point),
 # the absolute count is not: the simulated contacts are not grazing (each lands with a vertical
 # speed and pays μ·2v_z on top), and the formula counts contacts down to rest, while a simulated
