@@ -31,7 +31,8 @@ comes from the exact simulation (:func:`jaxskip.simulate_batch`).
 
 Where it fails: a stone whose lowest point jumps by millimetres in one step leaves and re-enters the
 water one step at a time, and the surrogate counts each such hop while the tracker, which confirms a
-bounce only at a flight's second dry step, counts none. That is a near-vertical stone spinning fast
+bounce from a flight's second dry step (or at once where the step's bound on the lowest point's path peaks
+above the clearance), counts none. That is a near-vertical stone spinning fast
 (measured, a review of 2026-12-07, 0.3 s at the default 0.25 ms step: tilt -89° / +89° / 60°, 0.1 m/s,
 200 rev/s: 11.7 / 10.3 / 9.0 against true counts of 2 / 1 / 1, whatever the width), far outside a human
 throw (in the human box the surrogate tracks the count, tested). A search over such a box can climb
