@@ -224,6 +224,14 @@ def test_gradient_search_improves_a_poor_throw(paper, water):
     # Gradient-norm monitoring: each iteration records every start's raw gradient norm, which is
     # the norm of the surrogate's gradient at that start's throw (recomputed here on its own).
     assert all(len(h["grad_norm"]) == 2 for h in r.history[:-1]) and "grad_norm" not in r.history[-1]
+    # (2026-12-07) the iterates' true counts are simulated in one batch after the ascent: each entry's counts are
+    # still its own points' (simulated here one iteration at a time), and its "best" the best up to it
+    for h in r.history:
+        pts = {k: np.asarray(v) for k, v in h["points"].items()}
+        own = simulate_batch(box.throws_from_user(pts), config=dataclasses.replace(config, record=False)).bounces
+        assert h["bounces"] == own.tolist(), (h["iteration"], h["bounces"], own)
+    assert [h["best"] for h in r.history] == list(np.maximum.accumulate([max(h["bounces"]) for h in r.history]))
+
     @functools.partial(jax.jit, static_argnames="box")
     def grads(u, water, width, box):
         f = make_objective("bounces", config, paper, water, width)
