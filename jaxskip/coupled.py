@@ -46,6 +46,12 @@ slope can exceed the stone's own descent, so a jump may land a little inside a c
 (2026-12-06, float64, 64² window; bounces with ``flight="jump"`` / ``"step"``): the default throw
 14 / 13 at dt = 0.25 ms and 13 / 15 at 0.125 ms; 6 m/s, 15°, 10°, 10 rev/s: 7 / 7 and 6 / 7;
 10 m/s, 25°, 3°, 30 rev/s: 41 / 38 and 38 / 39 — the jumps move the count no more than halving dt does.
+With the tilt held the jumps are longer (no spin shortens them) and step over brief touches of the stone's own
+wake that fine steps resolve, each a contact of ~1-9 ms just after a hop: measured (2026-12-07, a review; 8 random
+throws, 4-10 m/s, tilt 8-30°, attack 2-15°) fixed steps / jumps counted 4 / 4, 11 / 7, 12 / 8, 7 / 6, 2 / 2,
+10 / 8, 17 / 10, 4 / 4 bounces held, the same throws free 11 / 12, 11 / 7, 1 / 1, 4 / 4, 10 / 10, 2 / 2, 7 / 8,
+6 / 6; the main contacts and the distance agree (3.603 / 3.608 m for the second). For held-tilt counts on the
+height field take ``SimConfig(flight="step")``.
 
 The default window (:func:`default_window`): 64 × 64 columns of 1 cm
 (0.64 m, ~6 stone diameters), effective depth 2 cm — so that
