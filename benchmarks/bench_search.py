@@ -228,12 +228,14 @@ def main(argv=None):
     # throws a search climbs to cost more than a typical one, so no single throw's cost stands in.
     print(f"gradient search: {starts} starts{f' (the best of {args.screen} screened throws)' if args.screen else ''} "
           f"x {args.iterations} iterations, horizon {args.horizon or config.max_steps} steps ...", flush=True)
-    # The search's exact throws run in small pools (its starts, 8 lanes) that cost several grid throws each: they
-    # are costed by wall time too, the whole search's less the gradient's compile, after their pool program is
-    # compiled here (a review, 2026-12-07: counting them one for one left ~4 % of the grid's cost out).
+    # The search's exact throws (the (iterations + 1) x starts throws its ascent visits, simulated in one batch after
+    # it) cost more than grid throws each (long throws, a narrower pool): they are costed by wall time too, the whole
+    # search's less the gradient's compile, after their pool program is compiled here with a batch of the same size
+    # (the same lane count; a review, 2026-12-07: counting them one for one left much of the cost out).
     from optimize.search import _exact, _random_points
 
-    _exact(box, _random_points(box, starts, np.random.default_rng(99)), resolve_stone("paper")[0], config)
+    _exact(box, _random_points(box, (args.iterations + 1) * starts, np.random.default_rng(99)),
+           resolve_stone("paper")[0], config)
     gs = gradient_search(box, config=config, starts=starts, iterations=args.iterations, horizon=args.horizon,
                          screen=args.screen, progress=True)
     counted = gs.forward_throws + gs.gradient_time / per_throw    # (exact throws one for one: the old accounting)

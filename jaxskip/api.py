@@ -171,8 +171,9 @@ class ThrowResult:
     def __repr__(self) -> str:
         # (the dataclass's own repr printed every trajectory array, contact and triangle: 18-97 k characters)
         return (f"ThrowResult({plural(self.bounces, 'bounce')} over {self.distance:.3f} m, "
-                f"{self.outcome} after {self.final_time:.3f} s in {plural(self.steps, 'step')}; {self.stone_name} stone of "
-                f"{self.mass * 1e3:.1f} g" + (", on a height field" if self.field else "") + ")")
+                f"{self.outcome} after {self.final_time:.3f} s in {plural(self.steps, 'step')}; "
+                f"{self.stone_name} stone of {self.mass * 1e3:.1f} g"
+                + (", on a height field" if self.field else "") + ")")
 
     def energy(self) -> dict:
         r"""The stone's mechanical energy along :attr:`trajectory` [J], each an (N,) array, one value per row:
@@ -463,9 +464,9 @@ def held_energy_rise_message(result: "ThrowResult") -> str | None:
     e = result._energy_summary()
     if e["gain"] is None or not e["gain"] > HELD_ENERGY_RISE * abs(e["release"]):
         return None
-    dt = result.config.dt
-    return (f"with the tilt held the water cannot add energy, but the stone's mechanical energy rose by {e['gain']:.3g} J "
-            f"({100 * e['gain'] / abs(e['release']):.3g} % of its {e['release']:.3g} J at release): dt = {dt * 1e3:g} ms "
+    dt, gain, release = result.config.dt, e["gain"], e["release"]
+    return (f"with the tilt held the water cannot add energy, but the stone's mechanical energy rose by {gain:.3g} J "
+            f"({100 * gain / abs(release):.3g} % of its {release:.3g} J at release): dt = {dt * 1e3:g} ms "
             f"is too long for this stone and speed (an explicit step of a stiff contact); take a smaller dt, e.g. "
             f"{dt * 250:g} ms, and compare")
 

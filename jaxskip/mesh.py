@@ -701,13 +701,11 @@ def read_obj(path: str | os.PathLike, *, name: str | None = None) -> TriMesh:
             # write "größe") refused the whole file. Those bytes are read as Latin-1 and never parsed; a file with
             # NUL bytes (UTF-16, or not text) is still refused.
             if b"\x00" in data:
-                kind = ("UTF-16 text" if data[:2] in (b"\xff\xfe", b"\xfe\xff") else "a gzip archive" if
-                        data[:2] == b"\x1f\x8b" else "a PNG image" if data[:4] == b"\x89PNG" else "binary data")
-                raise MeshError(f"cannot read OBJ file {str(path)!r}: it is not a text OBJ file (it looks like "
-                                f"{kind}); "
-                                "jaxskip reads Wavefront OBJ as plain text, UTF-8 or Latin-1"
-                                + (": save it as UTF-8" if kind.startswith("UTF-16") else
-                                   ": decompress it first" if "gzip" in kind else "")) from None
+                kind, advice = (("UTF-16 text", ": save it as UTF-8") if data[:2] in (b"\xff\xfe", b"\xfe\xff") else
+                                ("a gzip archive", ": decompress it first") if data[:2] == b"\x1f\x8b" else
+                                ("a PNG image", "") if data[:4] == b"\x89PNG" else ("binary data", ""))
+                raise MeshError(f"cannot read OBJ file {str(path)!r}: it is not a text OBJ file (it looks like {kind}); "
+                                f"jaxskip reads Wavefront OBJ as plain text, UTF-8 or Latin-1{advice}") from None
             text = data.decode("latin-1")
     except (OSError, UnicodeDecodeError) as err:
         raise MeshError(f"cannot read OBJ file {str(path)!r}: {err}") from None

@@ -957,8 +957,8 @@ def make_step(config: SimConfig, surface=flat_surface, push: bool = False, max_s
         # of the lowest point's path, so it also confirms on the first dry step: a flight jump from there crossed the
         # whole hop, which was merged into the contact (2026-12-07, a review: the held default throw made 11 / 8 / 2 /
         # 0 bounces at max_flight_step 0.02 / 0.05 / 0.1 / 0.3 s on one trajectory; 11 at fixed steps).
-        bounce = tr.alive & ~wet & (((tr.phase == LEAVING) & ((gap > config.bounce_clearance) | (dry & peak)))
-                                    | ((tr.phase == WET) & dry & peak))
+        bounce = tr.alive & ~wet & (((tr.phase == LEAVING) & (gap > config.bounce_clearance))
+                                    | ((tr.phase != AIR) & dry & peak))
         idx_new = jnp.minimum(tr.contacts, k - 1)
         log_new = begin & (tr.contacts < k)
         idx_cur = jnp.clip(tr.contacts - 1, 0, k - 1)

@@ -1035,7 +1035,8 @@ def test_bad_input_is_refused_before_anything_is_traced():
 
     calls = {
         "simulate: a NaN speed": lambda: simulate(bad),
-        "simulate_batch: a NaN speed": lambda: simulate_batch(dataclasses.replace(batch, speed=np.array([5.0, math.nan]))),
+        "simulate_batch: a NaN speed":
+            lambda: simulate_batch(dataclasses.replace(batch, speed=np.array([5.0, math.nan]))),
         "rollout_jit: a NaN speed": lambda: rollout_jit(SimConfig(), bad, stone, water),
         "simulate: an unknown stone": lambda: simulate(good, "nosuch"),
         "simulate: a negative mass": lambda: simulate(good, "paper", mass=-1.0),
