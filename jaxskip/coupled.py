@@ -41,17 +41,18 @@ substeps (as is the up to half a fine step by which a water step's due time over
 ``water_dt``), so the water keeps the stone's time; only after a flight jump longer than
 those substeps together does the water advance by less than the jump (the ripples
 left behind lag; they are out of the stone's way). The window is re-centred at each
-water step. A flight jump's length takes the ripples as flat (``make_step(max_slope=0)``): their
-slope can exceed the stone's own descent, so a jump may land a little inside a crest. Measured
-(2026-12-06, float64, 64² window; bounces with ``flight="jump"`` / ``"step"``): the default throw
-14 / 13 at dt = 0.25 ms and 13 / 15 at 0.125 ms; 6 m/s, 15°, 10°, 10 rev/s: 7 / 7 and 6 / 7;
-10 m/s, 25°, 3°, 30 rev/s: 41 / 38 and 38 / 39 — the jumps move the count no more than halving dt does.
-With the tilt held the jumps are longer (no spin shortens them) and step over brief touches of the stone's own
-wake that fine steps resolve, each a contact of ~1-9 ms just after a hop: measured (2026-12-07, a review; 8 random
-throws, 4-10 m/s, tilt 8-30°, attack 2-15°) fixed steps / jumps counted 4 / 4, 11 / 7, 12 / 8, 7 / 6, 2 / 2,
-10 / 8, 17 / 10, 4 / 4 bounces held, the same throws free 11 / 12, 11 / 7, 1 / 1, 4 / 4, 10 / 10, 2 / 2, 7 / 8,
-6 / 6; the main contacts and the distance agree (3.603 / 3.608 m for the second). For held-tilt counts on the
-height field take ``SimConfig(flight="step")``.
+water step. A flight jump aims above the window's highest surface (``Field.ceiling``, the highest column as of
+the last water step, passed to ``make_step(ceiling=...)``; ``max_slope=0``): it ends before the stone's lowest
+vertex can come down to any crest, so the fine steps resolve every touch of the water. Until 2026-12-07 (stop 46)
+a jump took the surface under the stone at its start as the one it would meet and stepped over brief touches of
+the crests of the stone's own wake (each a contact of ~1-9 ms just after a hop), which fixed steps count: with
+the tilt held (no spin shortens the jumps) 24 random throws (seed 1: 4-10 m/s, tilt 8-30°, attack 2-15°, 0-20
+rev/s) counted as fixed steps on 15 (up to 8 fewer bounces: 16 / 8, 17 / 10), now on 20 and never more than 2
+apart; free, 17 of 24 either way (the differences at the level of halving dt). Fixed steps / jumps, bounces,
+float64, 64² window: the default throw 13 / 13 at dt = 0.25 ms and 15 / 16 at 0.125 ms (14 jumps before);
+6 m/s, 15°, 10°, 10 rev/s: 7 / 7 and 7 / 6; 10 m/s, 25°, 3°, 30 rev/s: 38 / 38 and 39 / 37 (41 jumps before).
+The jumps are shorter for it: the coupled default throw at 128² runs 3.4× real time against 4.6× before (the
+water also steps more in flight, keeping the stone's time).
 
 The default window (:func:`default_window`): 64 × 64 columns of 1 cm
 (0.64 m, ~6 stone diameters), effective depth 2 cm — so that
@@ -208,7 +209,7 @@ def advance_field(grid: WaterGrid, water_step, f: "Field", position, spread: int
         field = jax.lax.fori_loop(0, substeps, lambda _, w: water_step(w, push, h), f.water)
     field, offset = recentre(grid, field, f.offset, position)
     zero = jnp.zeros_like(f.pending)
-    return Field(field, offset, jnp.zeros_like(f.impulse), zero)
+    return Field(field, offset, jnp.zeros_like(f.impulse), zero, jnp.max(field.height) - grid.depth)
 
 
 def coupled_substeps(config: SimConfig, grid: WaterGrid, water_dt: float | None = None) -> int:
@@ -316,14 +317,14 @@ def make_coupled_step(config: SimConfig, grid: WaterGrid, water_dt: float | None
         surface = lambda x, y: height_at(grid, f.water.height, x, y, origin=origin)  # noqa: E731
         # The step also returns each triangle's force at the start-of-step state: the stone's push.
         # (max_slope 0: the flight jumps take the ripples as flat; see "Time steps" above)
-        (state1, tr1), rec, (forces, centroid) = make_step(config, surface, push=True, max_slope=0.0)(
-            (state, tr), stone, water)
+        (state1, tr1), rec, (forces, centroid) = make_step(config, surface, push=True, max_slope=0.0,
+                                                           ceiling=f.ceiling)((state, tr), stone, water)
         push = forces[:, 2] if two_way else 0.0 * forces[:, 2]
         h = state1.time - state.time          # 0 once the stone is out of play
         # pressure [Pa] = force / column area, times h: the impulse added in place (cost: the points)
         impulse = deposit(grid, centroid[:, 0], centroid[:, 1], push * (h / grid.spacing ** 2), origin=origin,
                           into=f.impulse)
-        f = Field(f.water, f.offset, impulse, f.pending + h)
+        f = Field(f.water, f.offset, impulse, f.pending + h, f.ceiling)
         f = jax.lax.cond(f.pending >= due_after, advance_water, lambda f, _: f, f, state1.position)
         return (state1, tr1, f), rec
 
@@ -345,6 +346,9 @@ class Field:
     """(nx, ny) pressure impulse [Pa s] at column centres, accumulated since the last water step."""
     pending: jax.Array
     """() stone time [s] since the last water step."""
+    ceiling: jax.Array
+    """() the window's highest surface elevation above rest [m] (its highest column less the depth) as of the
+    last water step: the stone's flight jumps aim above it (``make_step(ceiling=...)``)."""
 
 
 def initial_field(grid: WaterGrid, position) -> Field:
@@ -364,7 +368,8 @@ def initial_field(grid: WaterGrid, position) -> Field:
     _check_reach(grid, position)
     dtype = position.dtype
     offset = _centred_offset(grid.spacing, grid.shape, position)
-    return Field(still_water(grid, dtype=dtype), offset, jnp.zeros(grid.shape, dtype), jnp.zeros((), dtype))
+    zero = jnp.zeros((), dtype)
+    return Field(still_water(grid, dtype=dtype), offset, jnp.zeros(grid.shape, dtype), zero, zero)
 
 
 def check_shared_constants(grid: WaterGrid, water: WaterParams, name: str = "grid") -> None:

@@ -901,7 +901,8 @@ def _check_max_slope(config: SimConfig, surface, max_slope):
     return check_range("max_slope", max_slope, 0.0, MAX_SLOPE, unit="m/m")
 
 
-def make_step(config: SimConfig, surface=flat_surface, push: bool = False, max_slope: float | None = None):
+def make_step(config: SimConfig, surface=flat_surface, push: bool = False, max_slope: float | None = None,
+              ceiling=None):
     """Return the pure step ``step(carry, stone, water) -> (carry, record)``.
 
     ``carry = (StoneState, Tracker)``: start it from :func:`initial_carry` (a tracker whose ``alive``
@@ -917,6 +918,10 @@ def make_step(config: SimConfig, surface=flat_surface, push: bool = False, max_s
     ``push=True``: the step returns ``(carry, record, (forces, centroids))`` as well, the
     per-triangle water forces (F, 3) [N] on the stone at the start of the step and their
     immersed centroids (F, 3) [m] (zeros once out of play), for the coupled water.
+    ``ceiling``: None (default), or an upper bound [m] (a scalar, may be traced) of ``surface`` wherever the
+    stone can fly during a step: a flight jump then ends before the stone's lowest vertex comes down to it,
+    whatever the surface's shape below (the coupled water passes its window's highest column: a jump that
+    took the ripples under the stone as the surface stepped over crests of its own wake, a review found).
     """
     _require("make_step(config, surface, push)", config=(config, SimConfig))
     if not callable(surface):
@@ -925,6 +930,12 @@ def make_step(config: SimConfig, surface=flat_surface, push: bool = False, max_s
     if not isinstance(push, (bool, np.bool_)):
         raise ParameterError(f"make_step: push must be True or False, got {push!r}")
     max_slope = _check_max_slope(config, surface, max_slope)
+    if isinstance(ceiling, jax.core.Tracer):
+        if jnp.ndim(ceiling) != 0 or not jnp.issubdtype(ceiling.dtype, jnp.floating):
+            raise ParameterError(f"make_step: ceiling must be None or a real scalar [m], got a traced {ceiling.dtype} "
+                                 f"array of shape {jnp.shape(ceiling)}")
+    elif ceiling is not None:
+        ceiling = check_real("ceiling", ceiling, valid="[m] (or None)")
 
     def live_step(carry, stone: RigidStone, water: WaterParams):
         state, tr = carry
@@ -938,7 +949,9 @@ def make_step(config: SimConfig, surface=flat_surface, push: bool = False, max_s
         gap = face_min(above)
         top = face_max(above)
         b = _closing_bound(config, stone, state, max_slope)
-        dt, dry = _step_length(config, stone, water, state, gap, wet_area, b, R, L)
+        # (with a ceiling the jump aims above it: the lowest vertex's height over the ceiling is at most ``gap``)
+        clear = gap if ceiling is None else jnp.minimum(gap, face_min(vertex_heights(stone, state.position, R, flat_surface)) - ceiling)
+        dt, dry = _step_length(config, stone, water, state, clear, wet_area, b, R, L)
 
         # --- bookkeeping at the state at the start of the step ---
         t = state.time

@@ -111,7 +111,7 @@ def test_the_push_lands_under_the_stone_when_the_window_moves(spread):
     a water step that re-centres the window (here by two columns along x)."""
     grid = WaterGrid(shape=(16, 16), spacing=0.01, depth=0.02, clamp="smooth")
     impulse = jnp.zeros(grid.shape).at[8, 8].set(50.0 * 1e-3)        # 50 Pa for 1 ms at world column (8, 8)
-    f = Field(still_water(grid), jnp.zeros(2, jnp.int32), impulse, jnp.asarray(1e-3))
+    f = Field(still_water(grid), jnp.zeros(2, jnp.int32), impulse, jnp.asarray(1e-3), jnp.asarray(0.0))
     stone_at = jnp.array([0.104, 0.08, 0.01])                         # centre column (10, 8)
     out = advance_field(grid, make_water_step(grid), f, stone_at, spread, grid.time_step)
     np.testing.assert_array_equal(np.asarray(out.offset), [2, 0])
@@ -446,3 +446,48 @@ def test_water_helpers_check_what_they_are_given():
     assert water.height.shape == (16, 16) and np.asarray(offset).tolist() == [-3, -8]
     with pytest.raises(ParameterError, match="position's x and y must lie within"):
         recentre(grid, state, f.offset, jnp.array([1e8, 0.0, 0.0]))
+
+
+def test_held_tilt_flight_jumps_count_the_wake_touches_fixed_steps_count(paper, water):
+    """(2026-12-07, stop 46) On the height field a flight jump took the ripples under the stone as the surface it
+    would meet, so a held-tilt stone (no spin shortens its jumps) stepped over brief touches of the crests of its own
+    wake that fixed steps resolve (the first of these throws: 7 bounces fewer than fixed steps). The jumps now aim above
+    the window's highest surface (``Field.ceiling``) and count within one bounce of fixed steps."""
+    grid = default_window()
+    throws = Throw.from_degrees(speed=jnp.array([9.1, 8.5]), tilt=jnp.array([9.0, 14.0]),
+                                attack=jnp.array([11.0, 8.0]), spin=jnp.array([4.0, 20.0]))
+    out = {}
+    for flight in ("step", "jump"):
+        config = SimConfig(attitude="fixed", flight=flight, record=False)
+        run = jax.jit(lambda t, c=config: rollout_coupled(c, grid, t, paper, water))
+        out[flight] = [run(jax.tree_util.tree_map(lambda a, i=i: a[i], throws)) for i in range(2)]
+    for (s0, t0, _, _), (s1, t1, _, _) in zip(out["step"], out["jump"]):
+        assert int(t0.bounces) >= 15 and int(t0.outcome) == int(t1.outcome)
+        assert abs(int(t1.bounces) - int(t0.bounces)) <= 1                  # (17 / 18, 16 / 17)
+        assert abs(float(s1.position[0] - s0.position[0])) < 0.01           # (3 and 7 mm)
+
+
+def test_a_flight_jump_stops_above_the_ceiling(paper, water):
+    """``make_step(ceiling=c)`` on flat water: a stone falling from 5 cm jumps down to about c above the water and
+    no further (its lowest vertex never passes c in a step longer than the fine one); bad ceilings are refused."""
+    from jaxskip import initial_carry, make_step
+    from jaxskip.forces import vertex_heights
+    from jaxskip.quaternion import to_matrix
+
+    config = SimConfig(record=False, attitude="fixed")
+    carry = initial_carry(config, Throw.from_degrees(speed=1.0, tilt=10.0, attack=60.0, spin=0.0, height=0.05), paper)
+    step = jax.jit(lambda c, ceiling: make_step(config, ceiling=ceiling)(c, paper, water)[0])
+    lowest = lambda s: float(jnp.min(vertex_heights(paper, s.position, to_matrix(s.orientation), lambda x, y: 0.0)))  # noqa: E731
+    ceiling, lows, steps = 0.01, [], []
+    for _ in range(60):
+        new = step(carry, jnp.asarray(ceiling))
+        lows.append(lowest(new[0]))
+        steps.append(float(new[0].time - carry[0].time))
+        carry = new
+    assert steps[0] > 10 * config.dt and min(abs(z - ceiling) for z in lows) < 1e-9    # jumps down to the ceiling
+    assert all(z > ceiling - 1e-9 for z, h in zip(lows, steps) if h > 1.001 * config.dt)  # below it: fine steps
+    assert min(lows) < 0.0                                                           # on to the water
+    for bad, match in ((float("nan"), "ceiling must be finite"), ("1", "ceiling must be a real number"),
+                       (jnp.zeros(2), "ceiling must be a real number")):
+        with pytest.raises(ParameterError, match=match):
+            make_step(config, ceiling=bad)
