@@ -15,8 +15,9 @@ energy from the stone (below; see :attr:`ForceModel.velocity`).
         F_{L,i} &= \tfrac12 C_l \rho_w S_i\,|\cos\theta_i|\,|V|^2\,\hat u_i,
         \qquad u_i = \operatorname{sgn}(n_i\cdot\hat V)\,[(n_i\cdot\hat V)\hat V - n_i]
 
-    where :math:`\theta_i` is the angle between the face and :math:`V`
-    (:math:`|u_i| = |\cos\theta_i|`). The paper states
+    where :math:`\theta_i` is the angle between the face and :math:`V` (the paper's :math:`\theta`
+    in its section 3.1; the stone's tilt only when :math:`V` is horizontal),
+    :math:`|u_i| = |\cos\theta_i|`. The paper states
     :math:`|F_L| = \tfrac12 C_l\rho_w|V|^2 S\cos\theta`, which needs the unit
     vector :math:`\hat u_i`; eq. (2) as printed multiplies the *unnormalised*
     :math:`u_i` by :math:`|\cos\theta|`, giving :math:`\cos^2\theta`. The default
@@ -32,9 +33,14 @@ energy from the stone (below; see :attr:`ForceModel.velocity`).
     keeps the friction continuous when the flow meets a face head-on.
 
 Which faces feel the water is an explicit choice: ``faces="leading"`` (default)
-loads only immersed faces moving into the water (:math:`n_i\cdot V > 0`);
-behind a trailing face the flow separates and a cavity forms, so it carries
-no pressure. ``faces="all"`` loads every immersed face; on a trailing face
+loads only immersed faces whose outward normal points along the velocity the law uses,
+:math:`n_i\cdot V > 0` (with ``velocity="body"`` the centre of mass's :math:`v`, whatever the
+face's own motion; with ``"local"`` the face's own velocity at its wet centroid; with
+``"passive"`` each point's, below); behind a trailing face the flow separates and a cavity
+forms, so it carries no pressure. This departs from the seed paper, which sums the forces over
+every immersed triangle (its :math:`u_i` has a branch for :math:`n_i\cdot\hat V \le 0`): that is
+``faces="all"`` (Python only: the CLI builds ``ForceModel(law, velocity)``; docs/model.md, "Deviations
+from the seed paper"). ``faces="all"`` loads every immersed face; on a trailing face
 (:math:`n_i\cdot V < 0`) both lifts change sign with :math:`n_i\cdot V`, so they
 oppose the normal component of :math:`V` (the seed law's :math:`u_i` above; for
 Bocquet's law the lift then points along :math:`+n_i`, not the inward normal).
@@ -107,12 +113,15 @@ class ForceModel:
 
     law: str = "bocquet"
     """``"bocquet"`` (default: lift along the normal, friction along the face) or ``"seed"``
-    (Do, Lee & Ryu eqs. 1-2). The seed law's drag vanishes as a face lines up with the flow,
+    (Do, Lee & Ryu eqs. 1-2, on the faces :attr:`faces` picks: by default the leading ones, where the paper
+    loads every immersed triangle). The seed law's drag vanishes as a face lines up with the flow,
     so a planing stone barely slows and no magic angle appears; Bocquet's law reproduces
     the magic angle and N ~ V^2 at grazing attack (~1-2°; the exponent depends on the attack: docs/model.md,
     "Calibration")."""
     faces: str = "leading"
-    """``"leading"``: only immersed faces moving into the water are loaded; ``"all"``: every immersed face."""
+    """``"leading"`` (default): only immersed faces with ``n·V > 0`` are loaded, ``V`` the velocity the law uses (the
+    centre of mass's with ``velocity="body"``, the face's own with ``"local"`` and ``"passive"``); ``"all"``: every
+    immersed face, as the seed paper does (module docstring)."""
     velocity: str = "body"
     """``"body"`` (default): every triangle sees the centre-of-mass velocity, and spin acts only
     through the torques (Bocquet's and Clanet's model); ``"local"``: each triangle's own
@@ -176,15 +185,20 @@ class WaterParams:
         return self
 
 
-# Calibrated defaults, per law. Evidence (docs/model.md, "Calibration"): with Bocquet's law,
-# C_l = 1 and C_f in {0.1, 0.3, 1}, C_f = 0.3 puts the Clanet disk's minimum bounce
+# Default coefficients, per law (the seed paper gives none). Evidence (docs/model.md, "Calibration"):
+# with Bocquet's law, C_l = 1 and C_f in {0.1, 0.3, 1}, C_f = 0.3 put the Clanet disk's minimum bounce
 # speed at 20 deg tilt / 20 deg attack nearest Clanet et al.'s ~2.5 m/s (2.0 m/s) while
-# keeping the magic-angle minimum at 15-20 deg, no bounce at 50 deg, and N ~ V^2
-# (log-log slope 2.2) at grazing incidence -- figures from the session-1 calibration.
-# Today's U_min sweeps (bisection up to 8 m/s) put the minimum at 14 deg (1.745 m/s)
-# and find a bounce at 50 deg from 6.3 m/s: at 50 deg the disk needs a high speed,
-# but it does bounce. For the seed law C_f = 0.1 follows the
-# physics.md prototype (12-14 bounces at 5 m/s); with C_l = C_f = 1 it barely skips.
+# keeping the magic-angle minimum at 15-20 deg and no bounce at 50 deg -- figures from the
+# session-1 calibration. Today (2026-12-07, stop 46; jaxskip sweep umin --c-friction C_f, tilt held,
+# 20 deg attack, 65 rev/s) C_f = 0.1 / 0.3 / 0.5 / 1 give U_min 1.47 / 1.87 / 2.39 / 5.95 m/s at 20 deg
+# and lowest 1.41 / 1.745 / 2.17 / 4.05 m/s at 15 / 14 / 13 / 8 deg: a higher C_f nears 2.5 m/s but
+# moves the minimum further below Clanet's ~20 deg, and 0.3 stands, not retuned; at 50 deg the disk
+# bounces from 6.3 m/s. The paper stone held at 20 deg, 2 deg attack, no spin makes N ~ V^2 (log-log
+# slope 1.96 over 5-12 m/s). For the seed law C_l = 1, C_f = 0.1 were taken from the physics.md
+# prototype (12-14 bounces at 5 m/s; with C_l = C_f = 1 "it barely skips") and not re-validated;
+# that evidence does not hold today: 12 free throws of the paper stone at 5 m/s (tilt 10/20, attack
+# 2/5/10 deg, 10/20 rev/s) make 1-40 bounces with C_f = 0.1, 5 still planing 24.6 m out at the 5 s
+# limit and 7 flipping within 0.5-3.2 m, and 1-48 with C_l = C_f = 1.
 DEFAULT_COEFFICIENTS = {
     "seed": dict(c_lift=1.0, c_friction=0.1),
     "bocquet": dict(c_lift=1.0, c_friction=0.3),
