@@ -31,10 +31,10 @@ import numpy as np
 from ._docs import document_fields
 from ._progress import ProgressLine
 from ._checks import ParameterError, check_bool, check_int
-from .api import checked_config, checked_water, resolve_stone
+from .api import HELD_ENERGY_RISE, checked_config, checked_water, resolve_stone
 from .forces import WaterParams, water_params
-from .simulate import (DIVERGED, OUTCOMES, DivergedWarning, SimConfig, StoneState, Tracker, _new_tracker, _scan, diverged_message,
-                       initial_state, make_step, warn_if_unstable)
+from .simulate import (DIVERGED, LEAVING, OUTCOMES, DivergedWarning, SimConfig, StabilityWarning, StoneState, Tracker,
+                       _new_tracker, _scan, diverged_message, initial_state, make_step, warn_if_unstable)
 from .throw import Throw
 
 
@@ -153,6 +153,13 @@ changed. A pool of at least 8 lanes a device (idle lanes ride along) makes a thr
 independent of the batch it is in, of ``lanes``, of a sweep's chunk size and of the device count."""
 
 
+@jax.jit
+def _select_lanes(mask, new, old):
+    """``new`` on the lanes where ``mask`` (lanes,) is true, ``old`` elsewhere (every leaf has the lane axis first)."""
+    return jax.tree_util.tree_map(lambda n, o: jnp.where(mask.reshape(mask.shape + (1,) * (n.ndim - 1)), n, o),
+                                  new, old)
+
+
 def _lane_sharding():
     """Shard the lane axis over every local device (``None`` with one device)."""
     devices = jax.local_devices()
@@ -195,8 +202,11 @@ def simulate_batch(
         device, a power of two in [8, 128]. With several local JAX devices (``import jaxskip``
         makes one CPU device per core) the lanes are sharded over all of them
         (``jax.sharding``; a given count is rounded up to a multiple of the device count).
-    chunk : steps between refills, an integer >= 1 that divides ``config.max_steps`` (default: the divisor
-        nearest 250 by ratio, :func:`chunk_for`). Smaller wastes less on finished throws, larger costs fewer host round trips.
+    chunk : steps between refills, an integer in [1, ``config.max_steps``] (default :func:`chunk_for`: the divisor of
+        ``max_steps`` nearest 250 by ratio, or 250 where none lies within a factor 4 of it). Smaller wastes less on
+        finished throws, larger costs fewer host round trips. Where it does not divide ``max_steps``, a throw still
+        in play after its last whole chunk runs the remaining steps in a second program (compiled when first
+        needed), so every throw runs exactly the steps it would run alone.
     progress : print a progress line to stderr.
 
     Examples
@@ -223,8 +233,6 @@ def simulate_batch(
         "lanes", lanes, minimum=1, maximum=1_000_000)
     chunk = chunk_for(config.max_steps) if chunk is None else chunk
     chunk = check_int("chunk", chunk, minimum=1, maximum=config.max_steps)
-    if config.max_steps % chunk:
-        raise ParameterError(f"chunk must divide config.max_steps ({config.max_steps}); got {chunk}")
     water = water_params(config.force.law) if water is None else checked_water(water)
     rigid, _ = resolve_stone(stone, mass=mass, density=density)
     warn_if_unstable(config, rigid, water, throws.speed, throws.height, stacklevel=3)
@@ -241,7 +249,11 @@ def simulate_batch(
     # in JAX's float type: a float16 or integer throw would compile the pool apart (or fail in it)
     host_throws = jax.tree_util.tree_map(lambda a: np.asarray(a, dtype=jax.dtypes.canonicalize_dtype(np.float64)),
                                          throws)
-    chunks_max = config.max_steps // chunk
+    # A throw runs ``chunks_max`` whole chunks, then (where ``chunk`` does not divide ``max_steps``) the ``rest`` in the
+    # tail program, on every lane at once but kept only on the lanes that are due: a throw ending by the step limit
+    # is rare, and a prime max_steps otherwise forced a chunk of 1 (a host round trip a step: 22x slower) or of
+    # max_steps (every lane idling to the longest throw's end: 3.5x; a review, stop 46).
+    chunks_max, rest = divmod(config.max_steps, chunk)
 
     lane_throw = np.where(np.arange(lanes) < n, np.arange(lanes), -1)  # throw index of each lane (-1: idle)
     lane_chunks = np.zeros(lanes, int)      # chunks run by the lane's current throw
@@ -255,6 +267,12 @@ def simulate_batch(
         lane_chunks += 1
         state, tr = jax.device_get(carry)
         busy = lane_throw >= 0
+        due = busy & np.asarray(tr.alive) & (lane_chunks >= chunks_max)
+        if rest and due.any():
+            tail = _pool(config, lanes, rest)[0]
+            carry = _select_lanes(due, tail(carry, rigid, water), carry)
+            lane_steps += lanes * rest
+            state, tr = jax.device_get(carry)
         done = busy & (~np.asarray(tr.alive) | (lane_chunks >= chunks_max))
         if done.any():
             if final_state is None:  # allocate the outputs like the first lane's values
@@ -282,13 +300,15 @@ def simulate_batch(
     if progress:
         line.close()
 
-    final_tracker = final_tracker.finish()
+    final_tracker = _end_left_contacts(final_tracker.finish())
     outcome = final_tracker.outcome
     failed = np.flatnonzero(outcome == DIVERGED)
     if failed.size:
         warnings.warn(diverged_message(f"{failed.size} of {n} throws diverged (indices {failed[:5].tolist()}"
                                        + (", ..." if failed.size > 5 else "") + ")", config), DivergedWarning,
                       stacklevel=2)
+    if config.attitude == "fixed":
+        _warn_if_held_energy_rose(config, rigid, water, host_throws, final_state, outcome)
     # Horizontal distance from release: ``initial_state`` releases every throw above x = y = 0.
     distance = np.hypot(final_state.position[:, 0], final_state.position[:, 1])
     return BatchResult(
@@ -297,6 +317,47 @@ def simulate_batch(
         throws=host_throws, config=config, lanes=lanes, chunk=chunk, lane_steps=lane_steps,
         wall_time=time.perf_counter() - t0,
     )
+
+
+def _end_left_contacts(tr: Tracker) -> Tracker:
+    """Where a run ended after its last contact's stone left the water but before it rose clear of it (a bounce is
+    confirmed there), that contact's end (``t_end``, ``tilt_end``, ``x_end``) is where it left, as
+    :func:`jaxskip.simulate` reports it (it was NaN here, "not ended": a review, stop 46). Host arrays."""
+    k = np.minimum(tr.contacts, tr.log.shape[-2])
+    rows = np.flatnonzero((k > 0) & (k == tr.contacts) & (tr.phase == LEAVING))
+    rows = rows[~np.isfinite(tr.log[rows, k[rows] - 1, 5])]
+    if not rows.size:
+        return tr
+    log = tr.log.copy()
+    log[rows, k[rows] - 1, 5:10] = tr.leave[rows]     # (leave: time, tilt, x, y, z as t_end, tilt_end, x_end)
+    return dataclasses.replace(tr, log=log)
+
+
+_release_states = jax.jit(jax.vmap(initial_state, in_axes=(0, None)))
+
+
+def _warn_if_held_energy_rose(config, rigid, water, throws: Throw, final: StoneState, outcome) -> None:
+    """A :class:`jaxskip.StabilityWarning` naming the throws whose mechanical energy at the end exceeds their
+    release energy by more than :data:`jaxskip.api.HELD_ENERGY_RISE` of it: with the tilt held only the step can
+    add energy (:func:`jaxskip.simulate` checks every step of its one throw; here the end alone is seen)."""
+    release = jax.device_get(_release_states(throws, rigid))
+    m, g = float(rigid.mass), float(water.gravity)
+    spin = 0.5 * float(np.asarray(rigid.inertia)[2, 2]) * np.asarray(throws.spin, dtype=np.float64) ** 2
+
+    def energy(state):   # (the attitude and spin are the release's all along: the spin energy is carried as is)
+        v = np.asarray(state.velocity, dtype=np.float64)
+        return 0.5 * m * np.sum(v * v, axis=-1) + m * g * np.asarray(state.position, dtype=np.float64)[:, 2] + spin
+
+    e0, e1 = energy(release), energy(final)
+    bad = np.flatnonzero((e1 - e0 > HELD_ENERGY_RISE * np.abs(e0)) & (outcome != DIVERGED))
+    if bad.size:
+        rise = 100 * float(np.max((e1 - e0)[bad] / np.abs(e0[bad])))
+        warnings.warn(f"{bad.size} of {len(e0)} throws held at their tilt ended with more mechanical energy than "
+                      f"at release, by over {100 * HELD_ENERGY_RISE:g} % (up to {rise:.3g} %; indices "
+                      f"{bad[:5].tolist()}{', ...' if bad.size > 5 else ''}): with the tilt held the water cannot add "
+                      f"energy, so dt = {config.dt * 1e3:g} ms is too long for these stones and speeds (an explicit "
+                      f"step of a stiff contact); take a smaller dt, e.g. {config.dt * 250:g} ms, and compare",
+                      StabilityWarning, stacklevel=3)
 
 
 def default_lanes(n: int, devices: int = 1) -> int:
@@ -328,21 +389,29 @@ def default_lanes(n: int, devices: int = 1) -> int:
 
 
 def chunk_for(max_steps: int, target: int = 250) -> int:
-    """The divisor of ``max_steps`` nearest to ``target`` by ratio (a valid ``chunk`` for :func:`simulate_batch`);
-    both integers >= 1 [steps].
+    """A ``chunk`` for :func:`simulate_batch` [steps]: the divisor of ``max_steps`` nearest to ``target`` by ratio if
+    one lies within a factor :data:`CHUNK_SLACK` (4) of it, else ``min(target, max_steps)`` (the last chunk of a throw
+    still in play then runs in a shorter program); both integers >= 1.
 
-    By ratio, not difference: for a prime ``max_steps`` (2003) the choice is 2003 (one chunk a throw, its
-    lane idling from its end to the chunk's) rather than 1 (a host round trip every step: measured 20×
-    slower on 64 throws).
+    A divisor where one is near spares that second program; by ratio, not difference, and never far from
+    ``target``: for ``max_steps`` 20249 (a prime) the nearest divisor is 20249 itself (every lane then idles
+    from its throw's end to the longest throw's: measured 3.5x slower on 64 throws) and for 100003 it is 1 (a
+    host round trip every step: 22x slower; a review, stop 46).
 
-    >>> chunk_for(20250), chunk_for(2000), chunk_for(2003), chunk_for(100)
-    (250, 250, 2003, 100)
+    >>> chunk_for(20250), chunk_for(2000), chunk_for(2003), chunk_for(100), chunk_for(20249)
+    (250, 250, 250, 100, 250)
     """
     max_steps = check_int("max_steps", max_steps, minimum=1)
     target = check_int("target", target, minimum=1)
     divisors = [d for d in range(1, math.isqrt(max_steps) + 1) if max_steps % d == 0]
     divisors += [max_steps // d for d in divisors]
-    return min(divisors, key=lambda d: (abs(math.log(d / target)), d))
+    best = min(divisors, key=lambda d: (abs(math.log(d / target)), d))
+    return best if abs(math.log(best / target)) <= math.log(CHUNK_SLACK) else min(target, max_steps)
 
 
-__all__ = ["BatchResult", "MIN_LANES_PER_DEVICE", "chunk_for", "default_lanes", "simulate_batch"]
+CHUNK_SLACK = 4
+"""How far (as a ratio) :func:`chunk_for` lets a divisor of ``max_steps`` lie from its target before it takes the
+target itself."""
+
+
+__all__ = ["BatchResult", "CHUNK_SLACK", "MIN_LANES_PER_DEVICE", "chunk_for", "default_lanes", "simulate_batch"]

@@ -256,3 +256,60 @@ def test_a_batch_result_is_json_ready(paper, water):
     assert d["bounces"] == b.bounces.tolist() and d["outcome"] == b.outcome_names.tolist()
     assert d["throws"]["spin_rev_s"] == pytest.approx([10.0, 20.0]) and d["throws"]["tilt_deg"] == pytest.approx([20.0] * 2)
     assert d["distance"] == pytest.approx(b.distance.tolist())
+
+
+def test_a_chunk_that_does_not_divide_max_steps_still_stops_every_throw_at_max_steps(paper, water):
+    """(stop 46, a review) chunk had to divide max_steps, so a prime max_steps got a chunk of 1 (a host round trip a
+    step: 22x slower for 100003) or of max_steps (3.5x for 20249). chunk_for stays near 250 now, and a throw still
+    in play after its last whole chunk runs the rest in a shorter program: the step limit is where rollout's is."""
+    from jaxskip.batch import chunk_for, simulate_batch
+
+    assert (chunk_for(20249), chunk_for(100003), chunk_for(20250), chunk_for(50)) == (250, 250, 250, 50)
+    config = SimConfig(record=False, max_steps=1001)
+    rng = np.random.default_rng(0)
+    n = 20
+    throws = Throw.from_degrees(speed=jnp.asarray(rng.uniform(3, 12, n)), tilt=jnp.asarray(rng.uniform(5, 45, n)),
+                                attack=jnp.asarray(rng.uniform(0, 30, n)), spin=jnp.asarray(rng.uniform(0, 20, n)))
+    pool = simulate_batch(throws, paper, water=water, config=config, chunk=250)
+    state, tr, _ = jax.jit(jax.vmap(lambda t: rollout(config, t, paper, water)))(throws)
+    assert pool.chunk == 250 and np.sum(pool.outcome_names == "step_limit") >= 3
+    np.testing.assert_array_equal(pool.outcome, np.asarray(tr.outcome))
+    np.testing.assert_array_equal(pool.bounces, np.asarray(tr.bounces))
+    # (a step more or less would move the time by dt = 2.5e-4 s; measured equal)
+    np.testing.assert_allclose(pool.final_time, np.asarray(state.time), rtol=1e-12, atol=0)
+
+
+def test_a_held_throw_that_gains_energy_is_warned_of_in_a_batch_too():
+    """(stop 46, a review) simulate warns when a throw held at its tilt gains energy (only the step can add it);
+    simulate_batch said nothing: the light Clanet disk under the seed law at 24 m/s ends 11 % above its release
+    energy. It warns now (from the end state), naming the throw; a batch of sound held throws does not."""
+    import warnings
+
+    from jaxskip import ForceModel, StabilityWarning
+
+    config = SimConfig(attitude="fixed", force=ForceModel(law="seed"), record=False)
+    throws = Throw.from_degrees(speed=np.array([4.0, 24.0]), tilt=5.0, attack=10.0, spin=20.0)
+    with pytest.warns(StabilityWarning, match=r"1 of 2 throws held at their tilt ended with more mechanical energy "
+                                              r"than at release, by over 1 % \(up to 1\d\.?\d* %; indices \[1\]\)"):
+        simulate_batch(throws, "clanet", config=config)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", StabilityWarning)
+        simulate_batch(Throw.from_degrees(speed=np.array([4.0, 8.0]), tilt=20.0), config=dataclasses.replace(
+            config, force=ForceModel()))
+
+
+def test_a_contact_the_stone_left_before_the_run_ended_has_its_end_as_in_simulate():
+    """(stop 46, a review) a run that ended after the last contact's stone left the water but before a bounce was
+    confirmed: simulate gives the contact's end where the stone left; simulate_batch left it NaN ("not ended")."""
+    from jaxskip.simulate import LEAVING
+
+    config = SimConfig(duration=0.459)
+    throw = dict(speed=9.89128324247895, tilt=9.115500964580377, attack=5.220296030373842, spin=18.824397337836878)
+    one = simulate(Throw.from_degrees(**throw), config=config)
+    batch = simulate_batch(Throw.from_degrees(**{k: np.array([v]) for k, v in throw.items()}), config=config)
+    k = one.n_contacts
+    assert int(batch.tracker.phase[0]) == LEAVING and batch.n_contacts[0] == k and one.outcome == "time_limit"
+    last = one.contacts[-1]
+    assert last.t_end < one.final_time
+    assert float(batch.tracker.t_end[0, k - 1]) == pytest.approx(last.t_end, abs=1e-12)
+    assert float(batch.tracker.tilt_end[0, k - 1]) == pytest.approx(last.tilt_end, abs=1e-12)
