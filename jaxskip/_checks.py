@@ -151,9 +151,14 @@ def check_array(name: str, value, low: float, high: float, *, unit: str = "", lo
         raise ParameterError(f"{name} must be {valid}, got a number beyond the floating-point range") from None
     except (TypeError, ValueError):
         raise ParameterError(f"{name} must be a real number or array of them, got {value!r}") from None
-    bad = ~np.isfinite(arr)
-    if not bad.any():
-        bad = (arr <= low if low_open else arr < low) | (arr >= high if high_open else arr > high)
+    nonfinite = ~np.isfinite(arr)
+    with np.errstate(invalid="ignore"):
+        bad = nonfinite | (arr <= low if low_open else arr < low) | (arr >= high if high_open else arr > high)
     if bad.any():
-        raise ParameterError(f"{name} must be {valid}, got {float(arr[bad].flat[0])!r}")
+        # the first non-finite element, else the first out of range; which one, and how many are bad ("got nan"
+        # alone left a user to search 10^5 throws for it; a review, stop 46)
+        first = np.argwhere(nonfinite if nonfinite.any() else bad)[0]
+        where = "" if arr.size == 1 else (f" at index {int(first[0]) if arr.ndim == 1 else tuple(int(i) for i in first)}"
+                                          f" ({int(bad.sum())} of {arr.size} elements bad)")
+        raise ParameterError(f"{name} must be {valid}, got {float(arr[tuple(first)])!r}{where}")
     return arr

@@ -787,6 +787,40 @@ def test_a_stone_lighter_than_water_is_warned_of():
         rigid_stone(clanet_disk(), density=1000.0)
 
 
+def test_a_bad_element_of_a_batch_is_named_by_its_index():
+    """(stop 46, a review) a NaN in one of 10^5 speeds read 'got nan': which one, and how many, are said now."""
+    import numpy as np
+
+    speeds = np.full(100_000, 6.0)
+    speeds[[70_001, 99_999]] = np.nan, -2.0
+    with pytest.raises(ParameterError, match=r"speed must be finite and in \(0, 100\] m/s, got nan at index 70001 "
+                                             r"\(2 of 100000 elements bad\)$"):
+        Throw.from_degrees(speed=speeds)
+    with pytest.raises(ParameterError, match=r"tilt .* got 95\.0 at index \(1, 0\) \(1 of 4 elements bad\)$"):
+        Throw.from_degrees(tilt=np.array([[10.0, 20.0], [95.0, 30.0]]))
+    with pytest.raises(ParameterError, match=r"got nan$"):
+        Throw.from_degrees(speed=float("nan"))
+
+
+def test_a_light_builtin_stone_is_warned_of_on_every_call_at_the_callers_line():
+    """(stop 46, a review) the warning was raised inside the cache of built-in stones: only the first call with a
+    given stone and density saw it, and it named jaxskip/api.py's line."""
+    import warnings
+
+    from jaxskip import AccuracyWarning
+    from jaxskip.api import resolve_stone
+
+    def call():
+        return resolve_stone("clanet", density=321.0)
+
+    for _ in range(2):
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            call()
+        light = [w for w in caught if issubclass(w.category, AccuracyWarning) and "lighter than water" in str(w.message)]
+        assert len(light) == 1 and light[0].filename == __file__, [(w.filename, str(w.message)) for w in caught]
+
+
 def test_a_throw_of_lists_or_of_traced_values_is_refused_by_name():
     """Throw(...) of Python lists passed check() and met a raw IndexError in simulate_batch (jax.tree_util
     splits a list up); simulate under jax.grad met JAX's TracerArrayConversionError in check()."""
