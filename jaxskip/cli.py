@@ -233,7 +233,8 @@ def build_parser(argv=None) -> argparse.ArgumentParser:
                    help="face angle to the water, leading edge up [deg], in (-90, 90) (default 20)")
     t.add_argument("--attack", type=_float, default=5.0, metavar="DEG",
                    help="velocity angle below the horizontal at release [deg], in [-90, 90] (default 5; Clanet's "
-                        "impact angle beta when --height is small)")
+                        "beta is this angle at impact, which gravity steepens: by under ~0.6 deg from the default "
+                        "--height at most speeds, more for slow or grazing throws)")
     t.add_argument("--spin", type=_float, default=20.0, metavar="REV/S",
                    help=f"spin about the face normal [rev/s], + is counter-clockwise seen from above, in "
                         f"[{-MAX_SPIN_REVS:g}, {MAX_SPIN_REVS:g}] (default 20)")
