@@ -21,6 +21,7 @@ from __future__ import annotations
 import dataclasses
 import functools
 import math
+import sys
 import time
 import warnings
 
@@ -240,7 +241,11 @@ def simulate_batch(
     n = throws.shape[0]
     lanes = max(min(lanes, n), MIN_LANES_PER_DEVICE * n_devices)
     lanes = -(-lanes // n_devices) * n_devices
+    misses = _pool_programs.cache_info().misses
     advance, start, refill = _pool(config, lanes, chunk)
+    if progress and _pool_programs.cache_info().misses > misses:
+        print(f"  compiling the pool's program ({lanes} lanes, {chunk} steps a chunk; once per configuration, a few "
+              "seconds)...", file=sys.stderr, flush=True)
     if sharding is not None:
         # The stone and the water, placed once on every device: passed as they are, each of the ~120 calls a
         # grid makes would copy their leaves to the devices again (a host-side cost that stalls the devices).
@@ -296,7 +301,7 @@ def simulate_batch(
                 fresh[slots[:k]] = True
                 carry = refill(carry, _take(host_throws, np.maximum(np.where(fresh, new, 0), 0)), fresh, rigid)
         if progress:
-            line.update(f"  {finished}/{n} throws done ({lane_steps} lane-steps)")
+            line.update(f"  {finished}/{n} throws done ({lane_steps} lane-steps, {time.perf_counter() - t0:.0f} s)")
     if progress:
         line.close()
 

@@ -1,6 +1,7 @@
 """The progress line: rewritten in place on a terminal, one line per update (throttled) in a log file."""
 
 import io
+import re
 
 import jaxskip._progress as progress_module
 from jaxskip import Throw, simulate_batch
@@ -57,3 +58,18 @@ def test_simulate_progress_counts_the_steps_in_play(capsys):
     last = capsys.readouterr().err.splitlines()[-1]
     assert result.steps < 2000
     assert last.endswith(f" s in {result.steps} steps"), last
+
+
+def test_simulate_batch_progress_says_when_it_compiles_and_how_long_it_has_run(capsys):
+    """(stop 46, a review) nothing was printed during the pool's compile (simulate says 'compiling'), and the line
+    gave lane-steps with no time."""
+    import dataclasses
+
+    from jaxskip import SimConfig
+
+    config = dataclasses.replace(SimConfig(), max_contacts=63)   # (a pool program no other test compiles)
+    simulate_batch(Throw.from_degrees(speed=[5.0, 6.0]), config=config, progress=True)
+    err = capsys.readouterr().err
+    assert err.startswith("  compiling the pool's program (") and re.search(r"2/2 throws done \(\d+ lane-steps, \d+ s\)\n$", err)
+    simulate_batch(Throw.from_degrees(speed=[5.0, 7.0]), config=config, progress=True)
+    assert "compiling" not in capsys.readouterr().err
