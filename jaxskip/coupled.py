@@ -41,9 +41,11 @@ substeps (as is the up to half a fine step by which a water step's due time over
 ``water_dt``), so the water keeps the stone's time; only after a flight jump longer than
 those substeps together does the water advance by less than the jump (the ripples
 left behind lag; they are out of the stone's way). The window is re-centred at each
-water step. A flight jump aims above the window's highest surface (``Field.ceiling``, the highest column as of
-the last water step, passed to ``make_step(ceiling=...)``; ``max_slope=0``): it ends before the stone's lowest
-vertex can come down to any crest, so the fine steps resolve every touch of the water. Until 2026-12-07 (stop 46)
+water step. A flight jump aims above the window's highest surface (its highest column less the depth, passed
+to ``make_step(ceiling=...)``): it ends before the stone's lowest vertex can come down to any crest of the water
+as it stands at the jump's start, so the fine steps resolve the touches of the water (the water moves only after
+the jump, by at most ``substeps * grid.time_step``: a crest can rise meanwhile, measured by up to 0.37 mm after a
+jump, with no jump ending inside it in 4 throws checked step by step). Until 2026-12-07 (stop 46)
 a jump took the surface under the stone at its start as the one it would meet and stepped over brief touches of
 the crests of the stone's own wake (each a contact of ~1-9 ms just after a hop), which fixed steps count: with
 the tilt held (no spin shortens the jumps) 24 random throws (seed 1: 4-10 m/s, tilt 8-30°, attack 2-15°, 0-20
@@ -51,8 +53,11 @@ rev/s) counted as fixed steps on 15 (up to 8 fewer bounces: 16 / 8, 17 / 10), no
 apart; free, 17 of 24 either way (the differences at the level of halving dt). Fixed steps / jumps, bounces,
 float64, 64² window: the default throw 13 / 13 at dt = 0.25 ms and 15 / 16 at 0.125 ms (14 jumps before);
 6 m/s, 15°, 10°, 10 rev/s: 7 / 7 and 7 / 6; 10 m/s, 25°, 3°, 30 rev/s: 38 / 38 and 39 / 37 (41 jumps before).
-The jumps are shorter for it: the coupled default throw at 128² runs 3.4× real time against 4.6× before (the
-water also steps more in flight, keeping the stone's time).
+The jumps are shorter for it: the coupled default throw at 128² runs 3.2–3.4× real time against 4.6× before (the
+water also steps more in flight, keeping the stone's time). The bound is the whole window's: its highest column
+often lies far behind the stone (the default throw: up to 0.10 m above rest, ~27 columns back; 296 of its 385 dry
+steps were held under that ceiling, 191 of them above the highest water within 10 cm), so a ceiling over the
+columns a jump can reach, with the jump capped to stay among them, would be cheaper (not done).
 
 The default window (:func:`default_window`): 64 × 64 columns of 1 cm
 (0.64 m, ~6 stone diameters), effective depth 2 cm — so that
@@ -209,7 +214,7 @@ def advance_field(grid: WaterGrid, water_step, f: "Field", position, spread: int
         field = jax.lax.fori_loop(0, substeps, lambda _, w: water_step(w, push, h), f.water)
     field, offset = recentre(grid, field, f.offset, position)
     zero = jnp.zeros_like(f.pending)
-    return Field(field, offset, jnp.zeros_like(f.impulse), zero, jnp.max(field.height) - grid.depth)
+    return Field(field, offset, jnp.zeros_like(f.impulse), zero)
 
 
 def coupled_substeps(config: SimConfig, grid: WaterGrid, water_dt: float | None = None) -> int:
@@ -315,16 +320,18 @@ def make_coupled_step(config: SimConfig, grid: WaterGrid, water_dt: float | None
         state, tr, f = carry
         origin = f.offset.astype(state.position.dtype) * grid.spacing
         surface = lambda x, y: height_at(grid, f.water.height, x, y, origin=origin)  # noqa: E731
-        # The step also returns each triangle's force at the start-of-step state: the stone's push.
-        # (max_slope 0: the flight jumps take the ripples as flat; see "Time steps" above)
-        (state1, tr1), rec, (forces, centroid) = make_step(config, surface, push=True, max_slope=0.0,
-                                                           ceiling=f.ceiling)((state, tr), stone, water)
+        # The step also returns each triangle's force at the start-of-step state: the stone's push. A flight jump
+        # aims above the window's highest column (bilinear heights never exceed their columns'), worked out here
+        # from the water itself, so that no stored bound can fall out of step with it (see "Time steps" above).
+        ceiling = jnp.max(f.water.height) - grid.depth
+        (state1, tr1), rec, (forces, centroid) = make_step(config, surface, push=True, ceiling=ceiling)(
+            (state, tr), stone, water)
         push = forces[:, 2] if two_way else 0.0 * forces[:, 2]
         h = state1.time - state.time          # 0 once the stone is out of play
         # pressure [Pa] = force / column area, times h: the impulse added in place (cost: the points)
         impulse = deposit(grid, centroid[:, 0], centroid[:, 1], push * (h / grid.spacing ** 2), origin=origin,
                           into=f.impulse)
-        f = Field(f.water, f.offset, impulse, f.pending + h, f.ceiling)
+        f = Field(f.water, f.offset, impulse, f.pending + h)
         f = jax.lax.cond(f.pending >= due_after, advance_water, lambda f, _: f, f, state1.position)
         return (state1, tr1, f), rec
 
@@ -346,9 +353,6 @@ class Field:
     """(nx, ny) pressure impulse [Pa s] at column centres, accumulated since the last water step."""
     pending: jax.Array
     """() stone time [s] since the last water step."""
-    ceiling: jax.Array
-    """() the window's highest surface elevation above rest [m] (its highest column less the depth) as of the
-    last water step: the stone's flight jumps aim above it (``make_step(ceiling=...)``)."""
 
 
 def initial_field(grid: WaterGrid, position) -> Field:
@@ -368,8 +372,7 @@ def initial_field(grid: WaterGrid, position) -> Field:
     _check_reach(grid, position)
     dtype = position.dtype
     offset = _centred_offset(grid.spacing, grid.shape, position)
-    zero = jnp.zeros((), dtype)
-    return Field(still_water(grid, dtype=dtype), offset, jnp.zeros(grid.shape, dtype), zero, zero)
+    return Field(still_water(grid, dtype=dtype), offset, jnp.zeros(grid.shape, dtype), jnp.zeros((), dtype))
 
 
 def check_shared_constants(grid: WaterGrid, water: WaterParams, name: str = "grid") -> None:

@@ -888,11 +888,12 @@ def _step_length(config, stone, water, state: StoneState, gap, wet, b, R, L):
     return step, dry & (t_star >= config.dt)
 
 
-def _check_max_slope(config: SimConfig, surface, max_slope):
-    """``max_slope`` as a float: 0 for flat water when not given; required (a :class:`ParameterError`) for
-    another surface when the flight jumps (a jump that assumed flat water landed 10 mm inside a swell)."""
+def _check_max_slope(config: SimConfig, surface, max_slope, ceiling=None):
+    """``max_slope`` as a float: 0 for flat water, fixed steps or a surface bounded by a ``ceiling`` when not given;
+    required (a :class:`ParameterError`) for another surface when the flight jumps (a jump that assumed flat water
+    landed 10 mm inside a swell)."""
     if max_slope is None:
-        if surface is flat_surface or config.flight == "step":
+        if surface is flat_surface or config.flight == "step" or ceiling is not None:
             return 0.0
         raise ParameterError("max_slope: with a surface other than flat water, a flight jump must know how fast the "
                              "surface can rise under the moving stone: give max_slope, the steepest slope |grad h| "
@@ -918,10 +919,11 @@ def make_step(config: SimConfig, surface=flat_surface, push: bool = False, max_s
     ``push=True``: the step returns ``(carry, record, (forces, centroids))`` as well, the
     per-triangle water forces (F, 3) [N] on the stone at the start of the step and their
     immersed centroids (F, 3) [m] (zeros once out of play), for the coupled water.
-    ``ceiling``: None (default), or an upper bound [m] (a scalar, may be traced) of ``surface`` wherever the
+    ``ceiling``: None (default), or an upper bound [m] (a real scalar, may be traced) of ``surface`` wherever the
     stone can fly during a step: a flight jump then ends before the stone's lowest vertex comes down to it,
-    whatever the surface's shape below (the coupled water passes its window's highest column: a jump that
-    took the ripples under the stone as the surface stepped over crests of its own wake, a review found).
+    whatever the surface's shape below, and ``max_slope`` may be left out (0) (the coupled water passes its
+    window's highest column: a jump that took the ripples under the stone as the surface stepped over crests of
+    its own wake, a review found). Only its shape and type are checked when it is a JAX array.
     """
     _require("make_step(config, surface, push)", config=(config, SimConfig))
     if not callable(surface):
@@ -929,13 +931,13 @@ def make_step(config: SimConfig, surface=flat_surface, push: bool = False, max_s
                              f"{type(surface).__name__}")
     if not isinstance(push, (bool, np.bool_)):
         raise ParameterError(f"make_step: push must be True or False, got {push!r}")
-    max_slope = _check_max_slope(config, surface, max_slope)
-    if isinstance(ceiling, jax.core.Tracer):
+    max_slope = _check_max_slope(config, surface, max_slope, ceiling)
+    if isinstance(ceiling, jax.Array):   # (traced, or computed: its shape and type; its values are the caller's)
         if jnp.ndim(ceiling) != 0 or not jnp.issubdtype(ceiling.dtype, jnp.floating):
-            raise ParameterError(f"make_step: ceiling must be None or a real scalar [m], got a traced {ceiling.dtype} "
-                                 f"array of shape {jnp.shape(ceiling)}")
+            raise ParameterError(f"make_step: ceiling must be None or a real scalar [m], got a {ceiling.dtype} array "
+                                 f"of shape {jnp.shape(ceiling)}")
     elif ceiling is not None:
-        ceiling = check_real("ceiling", ceiling, valid="[m] (or None)")
+        ceiling = check_real("make_step: ceiling", ceiling)
 
     def live_step(carry, stone: RigidStone, water: WaterParams):
         state, tr = carry

@@ -111,7 +111,7 @@ def test_the_push_lands_under_the_stone_when_the_window_moves(spread):
     a water step that re-centres the window (here by two columns along x)."""
     grid = WaterGrid(shape=(16, 16), spacing=0.01, depth=0.02, clamp="smooth")
     impulse = jnp.zeros(grid.shape).at[8, 8].set(50.0 * 1e-3)        # 50 Pa for 1 ms at world column (8, 8)
-    f = Field(still_water(grid), jnp.zeros(2, jnp.int32), impulse, jnp.asarray(1e-3), jnp.asarray(0.0))
+    f = Field(still_water(grid), jnp.zeros(2, jnp.int32), impulse, jnp.asarray(1e-3))
     stone_at = jnp.array([0.104, 0.08, 0.01])                         # centre column (10, 8)
     out = advance_field(grid, make_water_step(grid), f, stone_at, spread, grid.time_step)
     np.testing.assert_array_equal(np.asarray(out.offset), [2, 0])
@@ -452,7 +452,7 @@ def test_held_tilt_flight_jumps_count_the_wake_touches_fixed_steps_count(paper, 
     """(2026-12-07, stop 46) On the height field a flight jump took the ripples under the stone as the surface it
     would meet, so a held-tilt stone (no spin shortens its jumps) stepped over brief touches of the crests of its own
     wake that fixed steps resolve (the first of these throws: 7 bounces fewer than fixed steps). The jumps now aim above
-    the window's highest surface (``Field.ceiling``) and count within one bounce of fixed steps."""
+    the window's highest surface (``make_step(ceiling=...)``) and count within one bounce of fixed steps."""
     grid = default_window()
     throws = Throw.from_degrees(speed=jnp.array([9.1, 8.5]), tilt=jnp.array([9.0, 14.0]),
                                 attack=jnp.array([11.0, 8.0]), spin=jnp.array([4.0, 20.0]))
@@ -487,7 +487,34 @@ def test_a_flight_jump_stops_above_the_ceiling(paper, water):
     assert steps[0] > 10 * config.dt and min(abs(z - ceiling) for z in lows) < 1e-9    # jumps down to the ceiling
     assert all(z > ceiling - 1e-9 for z, h in zip(lows, steps) if h > 1.001 * config.dt)  # below it: fine steps
     assert min(lows) < 0.0                                                           # on to the water
-    for bad, match in ((float("nan"), "ceiling must be finite"), ("1", "ceiling must be a real number"),
-                       (jnp.zeros(2), "ceiling must be a real number")):
+    for bad, match in ((float("nan"), "make_step: ceiling must be finite"), ("1", "ceiling must be a real number"),
+                       (jnp.zeros(2), r"ceiling must be None or a real scalar \[m\], got a float64 array of shape \(2,\)"),
+                       (jnp.asarray(1), "ceiling must be None or a real scalar")):
         with pytest.raises(ParameterError, match=match):
             make_step(config, ceiling=bad)
+    # a surface of one's own with a ceiling needs no max_slope (without either, the jumps would not be bounded)
+    swell = lambda x, y: 0.01 * jnp.sin(x)  # noqa: E731
+    make_step(config, swell, ceiling=0.01)
+    with pytest.raises(ParameterError, match="max_slope: with a surface other than flat water"):
+        make_step(config, swell)
+
+
+def test_a_jump_stops_above_water_the_user_raised_in_the_field(paper, water):
+    """(stop 46, a review) the window's highest column bounds the jumps whatever made the water: a field whose water
+    was replaced by hand (a 29 mm ridge ahead of the stone) is not jumped into."""
+    from jaxskip import initial_carry
+    from jaxskip.forces import vertex_heights
+    from jaxskip.quaternion import to_matrix
+    from jaxskip.water import height_at
+
+    grid, config = default_window(), SimConfig(record=False)
+    state, tr = initial_carry(config, Throw.from_degrees(speed=3.0, tilt=10.0, attack=10.0, spin=0.0, height=0.03),
+                              paper)
+    f = initial_field(grid, state.position)
+    ahead = (f.offset[0] + jnp.arange(64)) * grid.spacing - state.position[0]
+    ridge = jnp.where((ahead > 0.02) & (ahead < 0.10), 0.029, 0.0)[:, None] * jnp.ones((1, 64))
+    f = dataclasses.replace(f, water=dataclasses.replace(f.water, height=f.water.height + ridge))
+    s1, _, _ = jax.jit(lambda c: make_coupled_step(config, grid)(c, paper, water)[0])((state, tr, f))
+    surface = lambda x, y: height_at(grid, f.water.height, x, y, origin=f.offset * grid.spacing)  # noqa: E731
+    lowest = float(jnp.min(vertex_heights(paper, s1.position, to_matrix(s1.orientation), surface)))
+    assert float(s1.time - state.time) > config.dt and lowest > -1e-9, (float(s1.time), lowest)
