@@ -244,7 +244,6 @@ class ThrowResult:
         only, ~1e-9 J, where the law is passive). ``water`` (only with a height field): :attr:`field` without its
         ``frames``, and their ``units`` (:data:`WATER_UNITS`)."""
         t = self.throw
-        f = self.config.force
         return {
             "bounces": self.bounces,
             "distance": self.distance,
@@ -260,33 +259,29 @@ class ThrowResult:
                 "spin_rev_s": float(t.spin) / (2 * math.pi),
                 "height": float(t.height),
                 "heading_deg": math.degrees(float(t.heading)),
-                "stone": self.stone_name,
-                "mass": self.mass,
-                "force_law": f.law,
-                "faces": f.faces,
-                "velocity": f.velocity,
-                "normalize_lift": f.normalize_lift,
-                "sharpness": f.sharpness,
-                "c_lift": float(self.water.c_lift),
-                "c_friction": float(self.water.c_friction),
-                "rho_water": float(self.water.rho_water),
-                "gravity": float(self.water.gravity),
-                "attitude": self.config.attitude,
-                "integrator": self.config.integrator,
-                "dt": self.config.dt,
-                "duration": self.config.duration,
-                "max_steps": self.config.max_steps,
-                "flight": self.config.flight,
-                "max_flight_step": self.config.max_flight_step,
-                "bounce_clearance": self.config.bounce_clearance,
-                "stop_speed": self.config.stop_speed,
-                "max_contacts": self.config.max_contacts,
+                **settings_dict(self.stone_name, self.mass, self.water, self.config),
             },
             **({"energy": self._energy_summary()} if self.rigid is not None else {}),
             "wall_time": self.wall_time,
             **({"water": {**{k: v for k, v in self.field.items() if k != "frames"}, "units": WATER_UNITS}}
                if self.field else {}),
         }
+
+
+def settings_dict(stone_name: str, mass: float, water: WaterParams, config: SimConfig) -> dict:
+    """Every setting besides the throw that can change a result, JSON-ready, SI: ``stone`` (its name), ``mass`` [kg],
+    the force model's fields, the water's ``c_lift``, ``c_friction``, ``rho_water`` [kg/m^3] and ``gravity``
+    [m/s^2], and every :class:`SimConfig` field but ``record``, ``segment`` and ``checkpoint`` (how a run is stored
+    and differentiated, not what it computes): the ``parameters`` of :meth:`ThrowResult.to_dict` and of
+    :meth:`jaxskip.batch.BatchResult.to_dict`."""
+    f = config.force
+    return {"stone": stone_name, "mass": float(mass), "force_law": f.law, "faces": f.faces, "velocity": f.velocity,
+            "normalize_lift": f.normalize_lift, "sharpness": f.sharpness, "c_lift": float(water.c_lift),
+            "c_friction": float(water.c_friction), "rho_water": float(water.rho_water),
+            "gravity": float(water.gravity), "attitude": config.attitude, "integrator": config.integrator,
+            "dt": config.dt, "duration": config.duration, "max_steps": config.max_steps, "flight": config.flight,
+            "max_flight_step": config.max_flight_step, "bounce_clearance": config.bounce_clearance,
+            "stop_speed": config.stop_speed, "max_contacts": config.max_contacts}
 
 
 @functools.lru_cache(maxsize=32)

@@ -32,7 +32,7 @@ import numpy as np
 from ._docs import document_fields
 from ._progress import ProgressLine
 from ._checks import ParameterError, check_bool, check_int
-from .api import HELD_ENERGY_RISE, checked_config, checked_water, resolve_stone
+from .api import HELD_ENERGY_RISE, checked_config, checked_water, resolve_stone, settings_dict
 from .forces import WaterParams, water_params
 from .simulate import (DIVERGED, LEAVING, OUTCOMES, DivergedWarning, SimConfig, StabilityWarning, StoneState, Tracker,
                        _new_tracker, _scan, diverged_message, initial_state, make_step, warn_if_unstable)
@@ -63,6 +63,13 @@ class BatchResult:
     ``jax_enable_x64``), whatever types they were given in."""
     config: SimConfig
     """The :class:`jaxskip.SimConfig` every throw ran with (checked; ``record`` ignored)."""
+    stone_name: str
+    """The stone: the built-in name as given, a mesh's ``name``, an ``.obj`` file's stem, or ``"custom"`` for a ready
+    :class:`jaxskip.RigidStone`."""
+    mass: float
+    """The stone's mass [kg]."""
+    water: WaterParams
+    """The water's coefficients and constants the throws ran with."""
     lanes: int
     """Lanes in the pool (throws advanced together)."""
     chunk: int
@@ -76,7 +83,9 @@ class BatchResult:
         """JSON-ready per-throw lists (one entry per throw): ``bounces``, ``n_contacts``, ``outcome`` (names),
         ``distance`` [m] and ``final_time`` [s] (None where not finite), the throws in user units (``speed``
         [m/s], ``tilt_deg``, ``attack_deg``, ``heading_deg`` [deg], ``spin_rev_s`` [rev/s], ``height`` [m]),
-        and ``lanes``, ``lane_steps`` and ``wall_time`` [s].
+        ``parameters``, every other setting that can change a result (:func:`jaxskip.api.settings_dict`: the stone,
+        its mass [kg], the force model, the water and the :class:`SimConfig`), and ``lanes``, ``chunk``,
+        ``lane_steps`` and ``wall_time`` [s].
 
         >>> import json, numpy as np
         >>> from jaxskip import Throw
@@ -93,8 +102,10 @@ class BatchResult:
                   "height": numbers(t.height), "heading_deg": numbers(np.degrees(t.heading))}
         return {"bounces": np.asarray(self.bounces).tolist(), "n_contacts": np.asarray(self.n_contacts).tolist(),
                 "outcome": self.outcome_names.tolist(), "distance": numbers(self.distance),
-                "final_time": numbers(self.final_time), "throws": throws, "lanes": int(self.lanes),
-                "lane_steps": int(self.lane_steps), "wall_time": float(self.wall_time)}
+                "final_time": numbers(self.final_time), "throws": throws,
+                "parameters": settings_dict(self.stone_name, self.mass, self.water, self.config),
+                "lanes": int(self.lanes), "chunk": int(self.chunk), "lane_steps": int(self.lane_steps),
+                "wall_time": float(self.wall_time)}
 
     def __repr__(self) -> str:
         # (the dataclass's own repr printed every state, tracker and throw array: tens of k characters)
@@ -235,7 +246,7 @@ def simulate_batch(
     chunk = chunk_for(config.max_steps) if chunk is None else chunk
     chunk = check_int("chunk", chunk, minimum=1, maximum=config.max_steps)
     water = water_params(config.force.law) if water is None else checked_water(water)
-    rigid, _ = resolve_stone(stone, mass=mass, density=density)
+    rigid, stone_name = resolve_stone(stone, mass=mass, density=density)
     warn_if_unstable(config, rigid, water, throws.speed, throws.height, stacklevel=3)
 
     n = throws.shape[0]
@@ -319,8 +330,8 @@ def simulate_batch(
     return BatchResult(
         bounces=final_tracker.bounces.astype(int), n_contacts=final_tracker.contacts.astype(int), outcome=outcome,
         distance=distance, final_time=np.asarray(final_state.time), state=final_state, tracker=final_tracker,
-        throws=host_throws, config=config, lanes=lanes, chunk=chunk, lane_steps=lane_steps,
-        wall_time=time.perf_counter() - t0,
+        throws=host_throws, config=config, stone_name=stone_name, mass=float(rigid.mass), water=water, lanes=lanes,
+        chunk=chunk, lane_steps=lane_steps, wall_time=time.perf_counter() - t0,
     )
 
 

@@ -313,3 +313,20 @@ def test_a_contact_the_stone_left_before_the_run_ended_has_its_end_as_in_simulat
     assert last.t_end < one.final_time
     assert float(batch.tracker.t_end[0, k - 1]) == pytest.approx(last.t_end, abs=1e-12)
     assert float(batch.tracker.tilt_end[0, k - 1]) == pytest.approx(last.tilt_end, abs=1e-12)
+
+
+def test_a_batch_result_says_what_produced_it():
+    """(stop 46, a review) a batch's to_dict() held the throws and outcomes but not the stone, its mass, the water or
+    the simulation settings, so a saved batch could not be run again; its ``parameters`` are simulate's now."""
+    import json
+
+    from jaxskip import ForceModel
+
+    config = SimConfig(record=False, attitude="fixed", dt=2e-4, force=ForceModel(law="seed"))
+    d = simulate_batch(Throw.from_degrees(speed=np.array([5.0, 7.0])), "clanet", mass=0.02, config=config).to_dict()
+    one = simulate(Throw.from_degrees(speed=5.0), "clanet", mass=0.02, config=config).to_dict()["parameters"]
+    throw_keys = {"speed", "tilt_deg", "attack_deg", "spin_rev_s", "height", "heading_deg"}
+    assert d["parameters"] == {k: v for k, v in one.items() if k not in throw_keys}
+    assert d["parameters"]["stone"] == "clanet" and d["parameters"]["mass"] == pytest.approx(0.02)
+    assert d["parameters"]["force_law"] == "seed" and d["parameters"]["dt"] == 2e-4 and d["chunk"] >= 1
+    json.dumps(d)
