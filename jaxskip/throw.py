@@ -6,7 +6,8 @@ water surface, leading edge up (Bocquet's θ, Clanet's α; the "magic angle"
 horizontal at release (Clanet's β is the same angle at impact, which gravity
 steepens: from the default 1 mm ``height`` by under ~0.6° at the default throw
 and at 20° from 1.7 m/s up, but 0° at 3.5 m/s meets the water at 2.0° and 5°
-at 1 m/s at 8.7°; 5° at release from 1 m at 8 m/s at ~29°). ``heading`` turns the whole throw
+at 1 m/s at 8.7° with the paper stone, 2.3° and 9.4° with the Clanet disk; 5° at
+release from 1 m at 8 m/s at ~29°). ``heading`` turns the whole throw
 about the vertical. ``spin`` is the angular speed about the face normal,
 positive counter-clockwise seen from above.
 
