@@ -396,6 +396,9 @@ def run_sweep_command(args) -> int:
     spec = result["spec"]
     if spec["kind"] == "umin":
         low, high = spec["speed_range"]
+        # U_min to the bisection's bracket (2 decimals hid the curve near its minimum: 1.74 / 1.75 / 1.76 m/s where
+        # the bracket was 0.8 mm/s; a review)
+        dec = bracket_digits(result["resolution"]) if result.get("resolution") else 2
         failed = result.get("diverged") or [0] * len(spec["tilts"])
         cut = result.get("cut_off") or [0] * len(spec["tilts"])
         monotone = result.get("monotone") or [1] * len(spec["tilts"])
@@ -411,7 +414,7 @@ def run_sweep_command(args) -> int:
             elif n_low > 0:
                 shown = f"U_min <= {low:g} m/s (bounces at the bracket's low end)"
             else:
-                shown = f"U_min {u:.2f} m/s"
+                shown = f"U_min {u:.{dec}f} m/s"
             if u is not None and not steady:
                 shown += " (not monotone: a faster throw failed to bounce; the lowest bouncing speed found)"
             _say(f"tilt {t:6.1f} deg: {shown}")
@@ -430,15 +433,15 @@ def run_sweep_command(args) -> int:
             tied = [f"{t:g}" for t in result["tied_tilts"]]
             tie = bool(tied)   # the first of equal answers is not a minimum (nor is there a parabola: assemble)
             if tie:
-                _say(f"magic angle: no single minimum: tilts {', '.join(tied)} deg tie at U_min {u:.2f} m/s ({where}; "
+                _say(f"magic angle: no single minimum: tilts {', '.join(tied)} deg tie at U_min {u:.{dec}f} m/s ({where}; "
                      "more --iterations narrow the bracket)")
             elif u <= low:   # (an upper bound, not a value: "U_min 7.90 m/s (... U_min <= 7.9 m/s)"; a review)
                 _say(f"magic angle: {result['best_tilt']:g} deg, U_min <= {low:g} m/s ({where})")
             else:
-                _say(f"magic angle: {result['best_tilt']:g} deg, U_min {u:.2f} m/s ({where})")
+                _say(f"magic angle: {result['best_tilt']:g} deg, U_min {u:.{dec}f} m/s ({where})")
             if result["best_tilt_fit"] is not None:
                 _say(f"  between grid points (parabola through its neighbours): {result['best_tilt_fit']:.1f} deg, "
-                     f"U_min {result['best_umin_fit']:.2f} m/s")
+                     f"U_min {result['best_umin_fit']:.{dec}f} m/s")
             unknown = [f"{t:g}" for t, v, n_failed, n_cut in zip(spec["tilts"], result["umin"], failed, cut)
                        if v is None and (n_failed or n_cut)]
             if unknown:

@@ -135,7 +135,7 @@ ax[0].set(xlabel="tilt α [deg]", ylabel="U_min [m/s]", title="(a) minimal speed
 ax[0].legend(fontsize=6.5, loc="upper left")
 im = ax[1].pcolormesh(np.asarray(d_tilts), np.asarray(d_attacks), B.T, cmap="Blues", shading="nearest")
 fig.colorbar(im, ax=ax[1], label="bounces")
-ax[1].set(xlabel="tilt α (of the disk) [deg]", ylabel="attack β (impact angle of the velocity) [deg]",
+ax[1].set(xlabel="tilt α (of the disk) [deg]", ylabel="attack at release [deg] (Clanet's β is at impact)",
           title="(b) bounce domain at 3.5 m/s")
 ax[2].plot(d_tilts, Tc[:, j20] * 1e3, "o-")
 dropped = ~np.isfinite(Tc[:, j20])

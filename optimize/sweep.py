@@ -6,7 +6,8 @@ Clanet, Hersen & Bocquet (Nature 427:29, 2004) threw an aluminium disk
 2.5 m/s) and that disks tilted beyond about 45° do not bounce. Their analysis
 is the high-spin limit, where the tilt stays constant during the impact: the
 defaults here are their disk (``stone="clanet"``), ``attitude="fixed"`` and
-their reference spin, impact angle :math:`\beta = 20°` and speed 3.5 m/s.
+their reference spin, an attack of 20° at release (their impact angle :math:`\beta`, which gravity steepens
+by under a degree from the default release height at these speeds) and speed 3.5 m/s.
 
 A sweep is a :func:`make_spec` of one of two kinds, run by :func:`run_sweep`:
 
@@ -1120,11 +1121,14 @@ def _umin_panel(ax, result: dict) -> None:
                 label="a faster throw failed to bounce here: the lowest bouncing speed of a scan, bisected")
     if result.get("best_tilt_fit") is not None:
         ax.plot([result["best_tilt_fit"]], [result["best_umin_fit"]], "*", color="C3", ms=10,
-                label=f"between grid points (parabola): {result['best_umin_fit']:.2f} m/s at "
+                label=f"between grid points (parabola): "
+                      f"{result['best_umin_fit']:.{bracket_digits(result.get('resolution') or 0)}f} m/s at "
                       f"{result['best_tilt_fit']:.1f}°")
     ax.set_xlabel("tilt α [deg]")
     ax.set_ylabel("minimal speed for a bounce U_min [m/s]")
-    ax.set_title(f"U_min(α) at attack β = {spec['attacks'][0]:g}°, spin {spec['spin']:g} rev/s", fontsize=10)
+    held = " (inert with the tilt held)" if spec.get("attitude") == "fixed" else ""
+    ax.set_title(f"U_min(α) at attack {spec['attacks'][0]:g}° at release, spin {spec['spin']:g} rev/s{held}",
+                 fontsize=10)
     handles, labels = ax.get_legend_handles_labels()
     order = sorted(range(len(handles)), key=lambda i: handles[i] is not bars)  # the error bars first
     ax.legend([handles[i] for i in order], [labels[i] for i in order], fontsize=8, loc="upper center",
@@ -1191,7 +1195,7 @@ def _domain_panel(fig, ax, result: dict) -> None:
     if handles:
         ax.legend(handles=handles, fontsize=8, loc="upper center", bbox_to_anchor=(0.5, -0.14), frameon=False)
     ax.set_xlabel("tilt α [deg]")
-    ax.set_ylabel("attack β (impact angle) [deg]")
+    ax.set_ylabel("attack at release [deg]")
     ax.set_title(f"bounce domain at speed {spec['speed']:g} m/s, spin {spec['spin']:g} rev/s ({spec['stone']}, "
                  f"{spec['attitude']} attitude)", fontsize=10)
 

@@ -267,7 +267,7 @@ def test_umin_error_bars_are_the_bisection_bracket():
 def test_umin_best_tilt_states_its_bracket():
     ax = _sweep_figure(umin_result([3.0, 2.0, 2.5], [0, 0, 0], res=0.125)).axes[0]
     assert any("lowest grid point: 20°, U_min in (1.88, 2.00] m/s" in t for t in legend_texts(ax))
-    assert "spin 65 rev/s" in ax.get_title() and "attack β = 20°" in ax.get_title()
+    assert "spin 65 rev/s (inert with the tilt held)" in ax.get_title() and "attack 20° at release" in ax.get_title()
 
 
 def test_a_fine_bracket_is_shown_with_the_digits_the_command_prints():
@@ -317,7 +317,7 @@ def test_domain_has_tilt_on_x_like_the_umin_panel_and_the_notebook():
     from matplotlib.collections import QuadMesh
 
     ax = _sweep_figure(domain_result()).axes[0]
-    assert ax.get_xlabel().startswith("tilt α") and ax.get_ylabel().startswith("attack β")
+    assert ax.get_xlabel().startswith("tilt α") and ax.get_ylabel() == "attack at release [deg]"
     mesh = next(c for c in ax.collections if isinstance(c, QuadMesh))
     counts = np.asarray(mesh.get_array()).reshape(4, 3)   # rows: attacks 0..45, columns: tilts 10..30
     assert counts[1, 0] == 4 and counts[2, 1] == 1 and counts[1, 2] == 1
