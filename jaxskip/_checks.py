@@ -125,7 +125,7 @@ def check_choice(name: str, value, choices) -> str:
 
 
 def check_array(name: str, value, low: float, high: float, *, unit: str = "", low_open: bool = False,
-                high_open: bool = False):
+                high_open: bool = False, hint: str = ""):
     """Validate a scalar or array elementwise (finite, inside the range); return a float64 NumPy array.
 
     Used for batched throws: every element is checked on concrete values before tracing, and
@@ -137,7 +137,9 @@ def check_array(name: str, value, low: float, high: float, *, unit: str = "", lo
 
     if isinstance(value, jax.core.Tracer):
         raise ParameterError(f"{name} is a traced value: Throw.create / Throw.from_degrees check concrete values "
-                             "before tracing; inside jit, vmap or grad build the throw with Throw(...) directly")
+                             "before tracing; inside jit, vmap or grad build the throw from a checked one, e.g. "
+                             "dataclasses.replace(Throw.from_degrees(), speed=v, tilt=theta) (SI: m/s, rad, rad/s), "
+                             "or with Throw(speed, tilt, attack, spin, height, heading) directly")
     valid = f"finite and in {'(' if low_open else '['}{low:g}, {high:g}{')' if high_open else ']'}{(' ' + unit) if unit else ''}"
     try:
         raw = np.asarray(value)
@@ -160,5 +162,6 @@ def check_array(name: str, value, low: float, high: float, *, unit: str = "", lo
         first = np.argwhere(nonfinite if nonfinite.any() else bad)[0]
         where = "" if arr.size == 1 else (f" at index {int(first[0]) if arr.ndim == 1 else tuple(int(i) for i in first)}"
                                           f" ({int(bad.sum())} of {arr.size} elements bad)")
-        raise ParameterError(f"{name} must be {valid}, got {float(arr[tuple(first)])!r}{where}")
+        raise ParameterError(f"{name} must be {valid}, got {float(arr[tuple(first)])!r}{where}"
+                             + (f" ({hint})" if hint and not nonfinite.any() else ""))
     return arr

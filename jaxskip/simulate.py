@@ -161,7 +161,9 @@ class SimConfig:
     """Reverse-mode memory/time trade-off (no effect on a forward run). 1 (default): nested
     rematerialisation — each segment is checkpointed and, inside it, each step: only one carry
     per segment plus one segment's carries are stored (sub-linear memory).
-    0: every step's residuals are stored (faster for short rollouts, memory grows with steps)."""
+    0: every step's residuals are stored (memory grows with steps; and slower in every measurement: a reverse pass
+    of 250 steps 3.7 ms against 2.1 ms, of 4250 steps 51.5 ms / 83 MB against 9.5 ms / 0.08 MB, float64, a
+    review, stop 46; the stored residuals cost more to write and read than recomputing them)."""
 
     def __post_init__(self):
         # (checked values stored as plain floats: a NumPy scalar or 0-d array would not hash)

@@ -169,6 +169,10 @@ def _check_as_stored(speed, tilt) -> None:
                              "JAX runs in)")
 
 
+#: Said with an angle or spin out of its range (a review: ``Throw.create(tilt=20.0)`` meant degrees).
+_DEGREES = "SI units here: Throw.from_degrees takes degrees and rev/s"
+
+
 def _checked(speed, tilt, attack, spin, height, heading, slack: float = 0.0) -> dict:
     """The fields of a throw in SI units, checked elementwise (NumPy float64 arrays).
 
@@ -179,11 +183,11 @@ def _checked(speed, tilt, attack, spin, height, heading, slack: float = 0.0) -> 
     w = 1.0 + slack
     return dict(
         speed=check_array("speed", speed, 0.0, MAX_SPEED * w, unit="m/s", low_open=True),
-        tilt=check_array("tilt", tilt, -pi2 * w, pi2 * w, unit="rad", low_open=True, high_open=True),
-        attack=check_array("attack", attack, -pi2 * w, pi2 * w, unit="rad"),
-        spin=check_array("spin", spin, -MAX_SPIN * w, MAX_SPIN * w, unit="rad/s"),
+        tilt=check_array("tilt", tilt, -pi2 * w, pi2 * w, unit="rad", low_open=True, high_open=True, hint=_DEGREES),
+        attack=check_array("attack", attack, -pi2 * w, pi2 * w, unit="rad", hint=_DEGREES),
+        spin=check_array("spin", spin, -MAX_SPIN * w, MAX_SPIN * w, unit="rad/s", hint=_DEGREES),
         height=check_array("height", height, 0.0, MAX_HEIGHT * w, unit="m"),
-        heading=check_array("heading", heading, -MAX_HEADING * w, MAX_HEADING * w, unit="rad"),
+        heading=check_array("heading", heading, -MAX_HEADING * w, MAX_HEADING * w, unit="rad", hint=_DEGREES),
     )
 
 

@@ -62,7 +62,7 @@ import jax.numpy as jnp
 
 from jaxskip import RigidStone, SimConfig, StoneState, Throw, WaterParams
 from jaxskip._checks import ParameterError, check_range
-from jaxskip.simulate import (MAX_BOUNCE_CLEARANCE, Record, _check_concrete, _check_rollout_args, _one_float_type,
+from jaxskip.simulate import (DIVERGED, MAX_BOUNCE_CLEARANCE, Record, _check_concrete, _check_rollout_args, _one_float_type,
                               _scan, initial_carry, initial_state, make_step, rollout)
 
 #: Default clearance level [m]: the tracker's ``SimConfig.bounce_clearance``.
@@ -183,7 +183,9 @@ def make_objective(kind: str, config: SimConfig, stone: RigidStone, water: Water
 
     ``f`` takes one :class:`jaxskip.Throw` (SI, shape ()) and returns a scalar (bounces [-] or
     distance [m]); pure and differentiable, jit/vmap/grad-able; nothing per step is stored
-    (``config.record`` is ignored).
+    (``config.record`` is ignored). Traced throws cannot be checked before the run, so ``f`` returns NaN for a
+    throw with a non-finite value or a speed not above 0, and for one whose integration diverged: a bad point is
+    not scored as 0 bounces (a review, stop 46: a NaN speed under ``jit(vmap(...))`` gave 0.0 with NaN gradients).
     """
     if kind not in ("bounces", "distance"):
         raise ParameterError(f"kind (the objective) must be 'bounces' or 'distance', got {kind!r}")
@@ -197,8 +199,13 @@ def make_objective(kind: str, config: SimConfig, stone: RigidStone, water: Water
 
     def f(throw: Throw):
         if kind == "bounces":
-            return soft_bounce_rollout(config, throw, stone, water, config.bounce_clearance, width)[2]
-        state, _tr, _ = rollout(config, throw, stone, water)
-        return distance(state, throw, stone)
+            _state, tr, value = soft_bounce_rollout(config, throw, stone, water, config.bounce_clearance, width)
+        else:
+            state, tr, _ = rollout(config, throw, stone, water)
+            value = distance(state, throw, stone)
+        leaves = jax.tree_util.tree_leaves(throw)
+        valid = jnp.all(jnp.stack([jnp.all(jnp.isfinite(a)) for a in leaves])) & (throw.speed > 0.0)
+        # (a select: the value's gradient is passed through where valid, and zero elsewhere, never NaN times 0)
+        return jnp.where(valid & (tr.outcome != DIVERGED), value, jnp.nan)
 
     return f

@@ -771,3 +771,27 @@ def test_an_inert_spin_axis_is_warned_of():
         warnings.simplefilter("always")
         random_search({"tilt": (10.0, 30.0)}, throws=2, config=config)    # spin held: nothing to say
     assert not [w for w in caught if "spin is searched" in str(w.message)]
+
+
+def test_an_objective_is_nan_for_a_bad_or_diverged_throw_not_zero(paper, water):
+    """(stop 46, a review) traced throws cannot be checked, and under jit(vmap(value_and_grad)) a NaN speed scored
+    0.0 bounces (with NaN gradients), which an optimiser or an argmax would take as a real point. Both objectives
+    give NaN for a non-finite value, a speed not above 0, and a run that diverged; good lanes are untouched."""
+    import dataclasses
+
+    from jaxskip import rigid_stone, paper_stone
+    from optimize.objectives import make_objective
+
+    config = SimConfig(record=False, max_steps=2000)
+    base = Throw.from_degrees(speed=6.0)
+    throws = jax.tree_util.tree_map(lambda *a: jnp.stack(a), base, dataclasses.replace(base, speed=jnp.nan),
+                                    dataclasses.replace(base, speed=-3.0), dataclasses.replace(base, tilt=jnp.inf))
+    light = rigid_stone(paper_stone(), density=100.0)     # 100 m/s flat at 0.25 ms: the integration diverges
+    fast = Throw.from_degrees(speed=100.0, attack=0.0)
+    for kind in ("bounces", "distance"):
+        f = make_objective(kind, config, paper, water)
+        values, grads = jax.jit(jax.vmap(jax.value_and_grad(f)))(throws)
+        values = np.asarray(values)
+        assert np.isfinite(values[0]) and values[0] > 0 and np.isfinite(float(grads.speed[0])), (kind, values)
+        assert np.all(np.isnan(values[1:])), (kind, values)
+        assert np.isnan(float(jax.jit(make_objective(kind, config, light, water))(fast))), kind

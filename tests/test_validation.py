@@ -302,7 +302,7 @@ def test_review_fixes_session_16():
     with pytest.raises(ParameterError, match=r"density must be in \[100, 25000\] kg/m\^3"):
         simulate(stone="paper", density=0.0)
     # a traced value in a validating constructor: a ParameterError that says what to do
-    with pytest.raises(ParameterError, match="traced value.*build the throw with Throw"):
+    with pytest.raises(ParameterError, match="traced value.*build the throw from a checked one, e.g. dataclasses.replace\(Throw.from_degrees\(\)"):
         jax.jit(lambda s: Throw.create(speed=s).speed)(8.0)
     # constant arguments inside a trace are fine, and dataclasses.replace can put a traced speed in
     # (notebooks/stability.py differentiates this way; session 31's speed-rounds-to-0 check broke it)
@@ -800,6 +800,17 @@ def test_a_bad_element_of_a_batch_is_named_by_its_index():
         Throw.from_degrees(tilt=np.array([[10.0, 20.0], [95.0, 30.0]]))
     with pytest.raises(ParameterError, match=r"got nan$"):
         Throw.from_degrees(speed=float("nan"))
+
+
+def test_an_angle_out_of_its_si_range_points_to_from_degrees():
+    """(stop 46, a review) Throw.create(tilt=20.0), meaning degrees, read only 'must be ... rad, got 20.0'."""
+    with pytest.raises(ParameterError, match=r"tilt must be finite and in \(-1.5708, 1.5708\) rad, got 20.0 \(SI units "
+                                             r"here: Throw.from_degrees takes degrees and rev/s\)$"):
+        Throw.create(tilt=20.0)
+    with pytest.raises(ParameterError, match=r"spin .* rad/s, got 10000.0 \(SI units here"):
+        Throw.create(spin=1e4)
+    with pytest.raises(ParameterError, match=r"tilt must be finite and in \(-90, 90\) degrees, got 95.0$"):
+        Throw.from_degrees(tilt=95.0)
 
 
 def test_a_light_builtin_stone_is_warned_of_on_every_call_at_the_callers_line():
