@@ -467,11 +467,18 @@ def held_energy_rise_message(result: "ThrowResult") -> str | None:
     e = result._energy_summary()
     if e["gain"] is None or not e["gain"] > HELD_ENERGY_RISE * abs(e["release"]):
         return None
-    dt, gain, release = result.config.dt, e["gain"], e["release"]
+    gain, release = e["gain"], e["release"]
     return (f"with the tilt held the water cannot add energy, but the stone's mechanical energy rose by {gain:.3g} J "
-            f"({100 * gain / abs(release):.3g} % of its {release:.3g} J at release): dt = {dt * 1e3:g} ms "
-            f"is too long for this stone and speed (an explicit step of a stiff contact); take a smaller dt, e.g. "
-            f"{dt * 250:g} ms, and compare")
+            f"({100 * gain / abs(release):.3g} % of its {release:.3g} J at release): "
+            + held_step_advice(result.config.dt))
+
+
+def held_step_advice(dt: float, many: bool = False) -> str:
+    """What a held-tilt energy gain says of the step ``dt`` [s], and what to do (:func:`held_energy_rise_message`'s
+    and :func:`jaxskip.simulate_batch`'s warnings; ``many``: of several throws)."""
+    what = "these stones and speeds" if many else "this stone and speed"
+    return (f"dt = {dt * 1e3:g} ms is too long for {what} (an explicit step of a stiff contact); take a smaller dt, "
+            f"e.g. {dt * 250:g} ms, and compare")
 
 
 def _snapshot(carry, grid: WaterGrid) -> tuple:

@@ -32,7 +32,7 @@ import numpy as np
 from ._docs import document_fields
 from ._progress import ProgressLine
 from ._checks import ParameterError, check_bool, check_int
-from .api import HELD_ENERGY_RISE, checked_config, checked_water, resolve_stone, settings_dict
+from .api import HELD_ENERGY_RISE, checked_config, checked_water, held_step_advice, resolve_stone, settings_dict
 from .forces import WaterParams, water_params
 from .simulate import (DIVERGED, LEAVING, OUTCOMES, DivergedWarning, SimConfig, StabilityWarning, StoneState, Tracker,
                        _new_tracker, _scan, diverged_message, initial_state, make_step, warn_if_unstable)
@@ -215,7 +215,7 @@ def simulate_batch(
         makes one CPU device per core) the lanes are sharded over all of them
         (``jax.sharding``; a given count is rounded up to a multiple of the device count).
     chunk : steps between refills, an integer in [1, ``config.max_steps``] (default :func:`chunk_for`: the divisor of
-        ``max_steps`` nearest 250 by ratio, or 250 where none lies within a factor 4 of it). Smaller wastes less on
+        ``max_steps`` nearest 250 by ratio, or ``min(250, max_steps)`` where none lies within a factor 4 of it). Smaller wastes less on
         finished throws, larger costs fewer host round trips. Where it does not divide ``max_steps``, a throw still
         in play after its last whole chunk runs the remaining steps in a second program (compiled when first
         needed), so every throw runs exactly the steps it would run alone.
@@ -257,6 +257,7 @@ def simulate_batch(
     if progress and _pool_programs.cache_info().misses > misses:
         print(f"  compiling the pool's program ({lanes} lanes, {chunk} steps a chunk; once per configuration, a few "
               "seconds)...", file=sys.stderr, flush=True)
+    result_water = water   # (as checked: the result's; the copy placed on the devices below is the pool's)
     if sharding is not None:
         # The stone and the water, placed once on every device: passed as they are, each of the ~120 calls a
         # grid makes would copy their leaves to the devices again (a host-side cost that stalls the devices).
@@ -285,7 +286,12 @@ def simulate_batch(
         busy = lane_throw >= 0
         due = busy & np.asarray(tr.alive) & (lane_chunks >= chunks_max)
         if rest and due.any():
+            misses = _pool_programs.cache_info().misses
             tail = _pool(config, lanes, rest)[0]
+            if progress and _pool_programs.cache_info().misses > misses:
+                line.close()
+                print(f"  compiling the pool's last, {rest}-step chunk (max_steps {config.max_steps} is not a multiple "
+                      f"of the chunk, {chunk})...", file=sys.stderr, flush=True)
             carry = _select_lanes(due, tail(carry, rigid, water), carry)
             lane_steps += lanes * rest
             state, tr = jax.device_get(carry)
@@ -330,8 +336,8 @@ def simulate_batch(
     return BatchResult(
         bounces=final_tracker.bounces.astype(int), n_contacts=final_tracker.contacts.astype(int), outcome=outcome,
         distance=distance, final_time=np.asarray(final_state.time), state=final_state, tracker=final_tracker,
-        throws=host_throws, config=config, stone_name=stone_name, mass=float(rigid.mass), water=water, lanes=lanes,
-        chunk=chunk, lane_steps=lane_steps, wall_time=time.perf_counter() - t0,
+        throws=host_throws, config=config, stone_name=stone_name, mass=float(rigid.mass), water=result_water,
+        lanes=lanes, chunk=chunk, lane_steps=lane_steps, wall_time=time.perf_counter() - t0,
     )
 
 
@@ -371,9 +377,7 @@ def _warn_if_held_energy_rose(config, rigid, water, throws: Throw, final: StoneS
         warnings.warn(f"{bad.size} of {len(e0)} throws held at their tilt ended with more mechanical energy than "
                       f"at release, by over {100 * HELD_ENERGY_RISE:g} % (up to {rise:.3g} %; indices "
                       f"{bad[:5].tolist()}{', ...' if bad.size > 5 else ''}): with the tilt held the water cannot add "
-                      f"energy, so dt = {config.dt * 1e3:g} ms is too long for these stones and speeds (an explicit "
-                      f"step of a stiff contact); take a smaller dt, e.g. {config.dt * 250:g} ms, and compare",
-                      StabilityWarning, stacklevel=3)
+                      "energy, so " + held_step_advice(config.dt, many=True), StabilityWarning, stacklevel=3)
 
 
 def default_lanes(n: int, devices: int = 1) -> int:

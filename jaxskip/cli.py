@@ -326,7 +326,8 @@ def _percent(p: float) -> str:
 
 def _energy_lines(result) -> list:
     """The stone's mechanical energy in the summary: at release, at its peak and at the end [J], and a note
-    when the water added energy (rose above an earlier value; possible with --velocity body, the default)."""
+    when it rose above an earlier value: the water's doing with --velocity body (the default) or on the height field;
+    with the tilt held on flat water the step's, noted only above simulate's warning (which it points to)."""
     if result.rigid is None:
         return []
     e = result.to_dict()["energy"]
@@ -350,14 +351,14 @@ def _energy_lines(result) -> list:
         if held_energy_rise_message(result) is not None:
             lines.append(f"  (the step added {e['gain']:.3g} J: see the warning above)")
     elif e["gain"] > e["release"] * ENERGY_RISE + ENERGY_RISE:
-        # (with the tilt held no face turns: no wobble to pump, and --velocity passive is inert; the gain is the
-        # step's, too long for this stone and speed: a review saw 8 -> 21 J for a light disk at 100 m/s)
-        why = ("with --attitude fixed no face turns, so this is the integration: --dt is too long for this stone and "
-               "speed; take a smaller --dt" if result.config.attitude == "fixed" else
+        # (on the height field moving water may push the stone, and the body law's pumping acts there as well; with
+        # the tilt held no face turns, so the rest is the step's, too long for the stone and speed)
+        why = ("with --attitude fixed no face turns, so the rest is the integration's: a smaller --dt tells them apart"
+               if result.config.attitude == "fixed" else
                "with --velocity body each face's force comes from the centre of mass's velocity and can pump a "
                "wobble; --velocity passive never adds any; docs/model.md, 'The default free stone gains energy'"
                if result.config.force.velocity == "body" else "a smaller --dt resolves the contacts better")
-        if result.field:   # (moving water may push the stone; the body law's pumping acts on the field as well)
+        if result.field:
             why = "on the height field moving water can also push the stone; " + why
         lines.append(f"  (the water added energy: {e['gain']:.3g} J above an earlier low; {why})")
     return lines

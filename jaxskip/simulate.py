@@ -900,7 +900,7 @@ def _check_max_slope(config: SimConfig, surface, max_slope, ceiling=None):
         raise ParameterError("max_slope: with a surface other than flat water, a flight jump must know how fast the "
                              "surface can rise under the moving stone: give max_slope, the steepest slope |grad h| "
                              "of the surface [m/m] where the stone flies (0 for a surface that is flat there), or "
-                             "SimConfig(flight='step')")
+                             "SimConfig(flight='step'), or (make_step) a ceiling, the surface's highest point [m]")
     return check_range("max_slope", max_slope, 0.0, MAX_SLOPE, unit="m/m")
 
 
@@ -917,7 +917,7 @@ def make_step(config: SimConfig, surface=flat_surface, push: bool = False, max_s
     [m] (flat water by default; the height-field model supplies its own). ``max_slope``: the steepest
     slope |∇h| of ``surface`` [m/m, in [0, 1000]] over where the stone flies; a flight jump lets the
     surface rise that fast under the moving stone. Default 0 for flat water (or ``SimConfig(flight="step")``,
-    whose steps are all fine); required with another surface.
+    whose steps are all fine, or with a ``ceiling``); required with another surface.
     ``push=True``: the step returns ``(carry, record, (forces, centroids))`` as well, the
     per-triangle water forces (F, 3) [N] on the stone at the start of the step and their
     immersed centroids (F, 3) [m] (zeros once out of play), for the coupled water.

@@ -187,7 +187,7 @@ def _checked(speed, tilt, attack, spin, height, heading, slack: float = 0.0) -> 
         attack=check_array("attack", attack, -pi2 * w, pi2 * w, unit="rad", hint=_DEGREES),
         spin=check_array("spin", spin, -MAX_SPIN * w, MAX_SPIN * w, unit="rad/s", hint=_DEGREES),
         height=check_array("height", height, 0.0, MAX_HEIGHT * w, unit="m"),
-        heading=check_array("heading", heading, -MAX_HEADING * w, MAX_HEADING * w, unit="rad", hint=_DEGREES),
+        heading=check_array("heading", heading, -MAX_HEADING * w, MAX_HEADING * w, unit="rad"),
     )
 
 

@@ -184,8 +184,9 @@ def make_objective(kind: str, config: SimConfig, stone: RigidStone, water: Water
     ``f`` takes one :class:`jaxskip.Throw` (SI, shape ()) and returns a scalar (bounces [-] or
     distance [m]); pure and differentiable, jit/vmap/grad-able; nothing per step is stored
     (``config.record`` is ignored). Traced throws cannot be checked before the run, so ``f`` returns NaN for a
-    throw with a non-finite value or a speed not above 0, and for one whose integration diverged: a bad point is
-    not scored as 0 bounces (a review, stop 46: a NaN speed under ``jit(vmap(...))`` gave 0.0 with NaN gradients).
+    throw with a non-finite value or a speed not above 0 (its gradient 0: the default throw runs in its place),
+    and for one whose integration diverged (its gradient may be NaN): a bad point is not scored as 0 bounces (a
+    review, stop 46: a NaN speed under ``jit(vmap(...))`` gave 0.0 with NaN gradients).
     """
     if kind not in ("bounces", "distance"):
         raise ParameterError(f"kind (the objective) must be 'bounces' or 'distance', got {kind!r}")
@@ -198,14 +199,18 @@ def make_objective(kind: str, config: SimConfig, stone: RigidStone, water: Water
     config = dataclasses.replace(config, record=False)
 
     def f(throw: Throw):
+        _check_concrete(throw)   # (a concrete bad throw is refused by name, as rollout refuses it; a traced one: NaN)
+        leaves = jax.tree_util.tree_leaves(throw)
+        valid = jnp.all(jnp.stack([jnp.all(jnp.isfinite(a)) for a in leaves])) & (throw.speed > 0.0)
+        # A bad throw is swapped for the default one before the run (the double-where: the run's backward pass
+        # would multiply NaN Jacobians by the zero cotangent), so its gradient is 0, its value NaN below.
+        safe = jax.tree_util.tree_map(lambda a: jnp.asarray(a, jnp.result_type(a)), Throw.create())
+        throw = jax.tree_util.tree_map(lambda a, d: jnp.where(valid, a, d.astype(jnp.result_type(a))), throw, safe)
         if kind == "bounces":
             _state, tr, value = soft_bounce_rollout(config, throw, stone, water, config.bounce_clearance, width)
         else:
             state, tr, _ = rollout(config, throw, stone, water)
             value = distance(state, throw, stone)
-        leaves = jax.tree_util.tree_leaves(throw)
-        valid = jnp.all(jnp.stack([jnp.all(jnp.isfinite(a)) for a in leaves])) & (throw.speed > 0.0)
-        # (a select: the value's gradient is passed through where valid, and zero elsewhere, never NaN times 0)
         return jnp.where(valid & (tr.outcome != DIVERGED), value, jnp.nan)
 
     return f

@@ -575,8 +575,10 @@ def gradient_search(box: Box | None = None, *, objective: str = "bounces", stone
                      **({"screen": screened} if it == 0 and screened else {}))
         if progress:
             big = sum(1 for v in norms if v is None or v > EXPLODING)
-            found = (f"mean distance {float(np.mean(obj)):.2f} m" if objective == "distance"
-                     else f"smooth count's mean {float(np.mean(obj)):.2f}")
+            # (the mean of the finite values: a diverged start's objective is NaN)
+            ok = np.asarray(obj)[np.isfinite(np.asarray(obj))]
+            mean = f"{float(np.mean(ok)):.2f}" if ok.size else "nan"
+            found = f"mean distance {mean} m" if objective == "distance" else f"smooth count's mean {mean}"
             line.update(f"  iteration {it + 1}/{iterations}: {found}, {big}/{starts} gradients exploding")
     if progress:
         line.close()

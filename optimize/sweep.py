@@ -1122,7 +1122,7 @@ def _umin_panel(ax, result: dict) -> None:
     if result.get("best_tilt_fit") is not None:
         ax.plot([result["best_tilt_fit"]], [result["best_umin_fit"]], "*", color="C3", ms=10,
                 label=f"between grid points (parabola): "
-                      f"{result['best_umin_fit']:.{bracket_digits(result.get('resolution') or 0)}f} m/s at "
+                      f"{result['best_umin_fit']:.{bracket_digits(res)}f} m/s at "
                       f"{result['best_tilt_fit']:.1f}°")
     ax.set_xlabel("tilt α [deg]")
     ax.set_ylabel("minimal speed for a bounce U_min [m/s]")

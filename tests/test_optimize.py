@@ -794,4 +794,7 @@ def test_an_objective_is_nan_for_a_bad_or_diverged_throw_not_zero(paper, water):
         values = np.asarray(values)
         assert np.isfinite(values[0]) and values[0] > 0 and np.isfinite(float(grads.speed[0])), (kind, values)
         assert np.all(np.isnan(values[1:])), (kind, values)
+        # the bad throws' gradients are 0, not NaN (the default throw ran in their place)
+        for g in jax.tree_util.tree_leaves(grads):
+            assert np.all(np.asarray(g)[1:] == 0.0), (kind, grads)
         assert np.isnan(float(jax.jit(make_objective(kind, config, light, water))(fast))), kind

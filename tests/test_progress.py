@@ -73,3 +73,17 @@ def test_simulate_batch_progress_says_when_it_compiles_and_how_long_it_has_run(c
     assert err.startswith("  compiling the pool's program (") and re.search(r"2/2 throws done \(\d+ lane-steps, \d+ s\)\n$", err)
     simulate_batch(Throw.from_degrees(speed=[5.0, 7.0]), config=config, progress=True)
     assert "compiling" not in capsys.readouterr().err
+
+
+def test_simulate_batch_progress_names_the_compile_of_its_last_shorter_chunk(capsys):
+    """(stop 46, a review of the session) a chunk that does not divide max_steps runs a throw's last steps in a second
+    program, compiled when first needed: the progress says so too."""
+    import dataclasses
+
+    from jaxskip import SimConfig
+
+    config = dataclasses.replace(SimConfig(), max_contacts=62, max_steps=1001)   # (programs no other test compiles)
+    r = simulate_batch(Throw.from_degrees(speed=[9.0, 9.5], attack=1.0), config=config, chunk=250, progress=True)
+    err = capsys.readouterr().err
+    assert "step_limit" in r.outcome_names.tolist()
+    assert "compiling the pool's last, 1-step chunk (max_steps 1001 is not a multiple of the chunk, 250)" in err, err

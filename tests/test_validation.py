@@ -302,7 +302,7 @@ def test_review_fixes_session_16():
     with pytest.raises(ParameterError, match=r"density must be in \[100, 25000\] kg/m\^3"):
         simulate(stone="paper", density=0.0)
     # a traced value in a validating constructor: a ParameterError that says what to do
-    with pytest.raises(ParameterError, match="traced value.*build the throw from a checked one, e.g. dataclasses.replace\(Throw.from_degrees\(\)"):
+    with pytest.raises(ParameterError, match=r"traced value.*build the throw from a checked one, e.g. dataclasses.replace\(Throw.from_degrees\(\)"):
         jax.jit(lambda s: Throw.create(speed=s).speed)(8.0)
     # constant arguments inside a trace are fine, and dataclasses.replace can put a traced speed in
     # (notebooks/stability.py differentiates this way; session 31's speed-rounds-to-0 check broke it)
@@ -821,15 +821,19 @@ def test_a_light_builtin_stone_is_warned_of_on_every_call_at_the_callers_line():
     from jaxskip import AccuracyWarning
     from jaxskip.api import resolve_stone
 
-    def call():
-        return resolve_stone("clanet", density=321.0)
+    import inspect
+
+    from jaxskip import simulate
 
     for _ in range(2):
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always")
-            call()
+            here = inspect.currentframe().f_lineno + 1
+            simulate(Throw.from_degrees(), "clanet", density=321.0, config=SimConfig(max_steps=10))
         light = [w for w in caught if issubclass(w.category, AccuracyWarning) and "lighter than water" in str(w.message)]
-        assert len(light) == 1 and light[0].filename == __file__, [(w.filename, str(w.message)) for w in caught]
+        assert len(light) == 1 and (light[0].filename, light[0].lineno) == (__file__, here), [
+            (w.filename, w.lineno, str(w.message)) for w in caught]
+    assert resolve_stone("clanet", density=321.0)[0] is resolve_stone("clanet", density=321.0)[0]   # (still cached)
 
 
 def test_a_throw_of_lists_or_of_traced_values_is_refused_by_name():
