@@ -160,8 +160,8 @@ def check_array(name: str, value, low: float, high: float, *, unit: str = "", lo
         # the first non-finite element, else the first out of range; which one, and how many are bad ("got nan"
         # alone left a user to search 10^5 throws for it; a review, stop 46)
         first = np.argwhere(nonfinite if nonfinite.any() else bad)[0]
-        where = "" if arr.size == 1 else (f" at index {int(first[0]) if arr.ndim == 1 else tuple(int(i) for i in first)}"
-                                          f" ({int(bad.sum())} of {arr.size} elements bad)")
+        index = int(first[0]) if arr.ndim == 1 else tuple(int(i) for i in first)
+        where = "" if arr.size == 1 else f" at index {index} ({int(bad.sum())} of {arr.size} elements bad)"
         raise ParameterError(f"{name} must be {valid}, got {float(arr[tuple(first)])!r}{where}"
                              + (f" ({hint})" if hint and not nonfinite.any() else ""))
     return arr

@@ -215,8 +215,8 @@ def simulate_batch(
         makes one CPU device per core) the lanes are sharded over all of them
         (``jax.sharding``; a given count is rounded up to a multiple of the device count).
     chunk : steps between refills, an integer in [1, ``config.max_steps``] (default :func:`chunk_for`: the divisor of
-        ``max_steps`` nearest 250 by ratio, or ``min(250, max_steps)`` where none lies within a factor 4 of it). Smaller wastes less on
-        finished throws, larger costs fewer host round trips. Where it does not divide ``max_steps``, a throw still
+        ``max_steps`` nearest 250 by ratio, or ``min(250, max_steps)`` where none lies within a factor 4 of it).
+        Smaller wastes less on finished throws, larger costs fewer host round trips. Where it does not divide ``max_steps``, a throw still
         in play after its last whole chunk runs the remaining steps in a second program (compiled when first
         needed), so every throw runs exactly the steps it would run alone.
     progress : print a progress line to stderr.

@@ -954,7 +954,11 @@ def make_step(config: SimConfig, surface=flat_surface, push: bool = False, max_s
         top = face_max(above)
         b = _closing_bound(config, stone, state, max_slope)
         # (with a ceiling the jump aims above it: the lowest vertex's height over the ceiling is at most ``gap``)
-        clear = gap if ceiling is None else jnp.minimum(gap, face_min(vertex_heights(stone, state.position, R, flat_surface)) - ceiling)
+        if ceiling is None:
+            clear = gap
+        else:
+            lowest = face_min(vertex_heights(stone, state.position, R, flat_surface))   # world z [m]
+            clear = jnp.minimum(gap, lowest - ceiling)
         dt, dry = _step_length(config, stone, water, state, clear, wet_area, b, R, L)
 
         # --- bookkeeping at the state at the start of the step ---
