@@ -31,7 +31,7 @@ from . import quaternion
 from .mesh import TriMesh
 from .coupled import (check_shared_constants, check_window_fits, coupled_interval, coupled_substeps, initial_field,
                       make_coupled_step)
-from .simulate import (_ALIVE, DIVERGED, LEAVING, OUTCOMES, DivergedWarning, STEP_LIMIT, SimConfig, StabilityWarning,
+from .simulate import (_ALIVE, DIVERGED, OUTCOMES, DivergedWarning, STEP_LIMIT, SimConfig, StabilityWarning,
                        StoneState, Tracker, _new_tracker, _scan, diverged_message, initial_state, make_step,
                        warn_if_coarse, warn_if_inert, warn_if_unstable)
 from .stones import BUILTIN_STONES, load_stone
@@ -633,16 +633,13 @@ def simulate(
     k = min(int(tr.contacts), config.max_contacts)
     heading = float(throw.heading)
     along = np.array([math.cos(heading), math.sin(heading)])  # release is at x = y = 0
+    # (a run that ended after the last contact's stone left the water: that contact ends where it left; it read as
+    # "in the water at the end", t_end the run's end)
+    tr = tr.end_at_leave()
     # The contact log's first k rows, as host float64 columns (one NumPy op per column, not per contact).
     t_start, t_end = (np.asarray(a[:k], dtype=np.float64) for a in (tr.t_start, tr.t_end))
     tilt_end = np.asarray(tr.tilt_end[:k], dtype=np.float64)
     x_end = np.asarray(tr.x_end[:k, :2], dtype=np.float64)
-    if k and not np.isfinite(t_end[-1]) and int(tr.phase) == LEAVING and k == int(tr.contacts):
-        # The run ended after the last contact's stone left the water but before it rose clear of it (a bounce
-        # is confirmed there): its end is where it left (it read as "in the water at the end", t_end the run's end).
-        leave = np.asarray(tr.leave, dtype=np.float64)
-        t_end, tilt_end, x_end = t_end.copy(), tilt_end.copy(), x_end.copy()
-        t_end[-1], tilt_end[-1], x_end[-1] = leave[0], leave[1], leave[2:4]
     ended = np.isfinite(t_end)
     x_end = np.where(ended[:, None], x_end, np.asarray(state.position[:2])[None])
     columns = dict(

@@ -34,7 +34,7 @@ from ._progress import ProgressLine
 from ._checks import ParameterError, check_bool, check_int
 from .api import HELD_ENERGY_RISE, checked_config, checked_water, held_step_advice, resolve_stone, settings_dict
 from .forces import WaterParams, water_params
-from .simulate import (DIVERGED, LEAVING, OUTCOMES, DivergedWarning, SimConfig, StabilityWarning, StoneState, Tracker,
+from .simulate import (DIVERGED, OUTCOMES, DivergedWarning, SimConfig, StabilityWarning, StoneState, Tracker,
                        _new_tracker, _scan, diverged_message, initial_state, make_step, warn_if_unstable)
 from .throw import Throw
 
@@ -322,7 +322,7 @@ def simulate_batch(
     if progress:
         line.close()
 
-    final_tracker = _end_left_contacts(final_tracker.finish())
+    final_tracker = final_tracker.finish().end_at_leave()
     outcome = final_tracker.outcome
     failed = np.flatnonzero(outcome == DIVERGED)
     if failed.size:
@@ -341,36 +341,21 @@ def simulate_batch(
     )
 
 
-def _end_left_contacts(tr: Tracker) -> Tracker:
-    """Where a run ended after its last contact's stone left the water but before it rose clear of it (a bounce is
-    confirmed there), that contact's end (``t_end``, ``tilt_end``, ``x_end``) is where it left, as
-    :func:`jaxskip.simulate` reports it (it was NaN here, "not ended": a review, stop 46). Host arrays."""
-    k = np.minimum(tr.contacts, tr.log.shape[-2])
-    rows = np.flatnonzero((k > 0) & (k == tr.contacts) & (tr.phase == LEAVING))
-    rows = rows[~np.isfinite(tr.log[rows, k[rows] - 1, 5])]
-    if not rows.size:
-        return tr
-    log = tr.log.copy()
-    log[rows, k[rows] - 1, 5:10] = tr.leave[rows]     # (leave: time, tilt, x, y, z as t_end, tilt_end, x_end)
-    return dataclasses.replace(tr, log=log)
-
-
-_release_states = jax.jit(jax.vmap(initial_state, in_axes=(0, None)))
-
-
 def _warn_if_held_energy_rose(config, rigid, water, throws: Throw, final: StoneState, outcome) -> None:
     """A :class:`jaxskip.StabilityWarning` naming the throws whose mechanical energy at the end exceeds their
     release energy by more than :data:`jaxskip.api.HELD_ENERGY_RISE` of it: with the tilt held only the step can
-    add energy (:func:`jaxskip.simulate` checks every step of its one throw; here the end alone is seen)."""
-    release = jax.device_get(_release_states(throws, rigid))
+    add energy (:func:`jaxskip.simulate` checks every step of its one throw; here the end alone is seen). Host
+    arithmetic: the attitude and spin are the release's all along, so the spin energy cancels and the release
+    height of the centre of mass is ``height`` less the lowest vertex's offset in the final attitude."""
     m, g = float(rigid.mass), float(water.gravity)
     spin = 0.5 * float(np.asarray(rigid.inertia)[2, 2]) * np.asarray(throws.spin, dtype=np.float64) ** 2
-
-    def energy(state):   # (the attitude and spin are the release's all along: the spin energy is carried as is)
-        v = np.asarray(state.velocity, dtype=np.float64)
-        return 0.5 * m * np.sum(v * v, axis=-1) + m * g * np.asarray(state.position, dtype=np.float64)[:, 2] + spin
-
-    e0, e1 = energy(release), energy(final)
+    w, x, y, z = np.moveaxis(np.asarray(final.orientation, dtype=np.float64), -1, 0)
+    row = np.stack([2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)], axis=-1)   # R's z row
+    lowest = np.min(np.asarray(rigid.triangles, dtype=np.float64).reshape(-1, 3) @ row.T, axis=0)
+    e0 = (0.5 * m * np.asarray(throws.speed, dtype=np.float64) ** 2
+          + m * g * (np.asarray(throws.height, dtype=np.float64) - lowest) + spin)
+    v = np.asarray(final.velocity, dtype=np.float64)
+    e1 = 0.5 * m * np.sum(v * v, axis=-1) + m * g * np.asarray(final.position, dtype=np.float64)[:, 2] + spin
     bad = np.flatnonzero((e1 - e0 > HELD_ENERGY_RISE * np.abs(e0)) & (outcome != DIVERGED))
     if bad.size:
         rise = 100 * float(np.max((e1 - e0)[bad] / np.abs(e0[bad])))

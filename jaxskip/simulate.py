@@ -467,6 +467,22 @@ class Tracker:
             c = c.at[..., _OUTCOME].set(outcome)
         return dataclasses.replace(self, counters=c)
 
+    def end_at_leave(self) -> "Tracker":
+        """The tracker as host NumPy arrays (any leading batch axes), where a run that ended after its last contact's
+        stone left the water but before it rose clear of it (a bounce is confirmed there) has that contact's end
+        (``t_end``, ``tilt_end``, ``x_end``) where it left, not NaN ("not ended"): what :func:`jaxskip.simulate`
+        and :func:`jaxskip.simulate_batch` report."""
+        counters, leave, log = (np.asarray(a) for a in (self.counters, self.leave, self.log))
+        flat_c = counters.reshape(-1, counters.shape[-1])
+        flat_log = log.reshape((-1,) + log.shape[-2:]).copy()
+        contacts = flat_c[:, _CONTACTS]
+        k = np.minimum(contacts, flat_log.shape[-2])
+        rows = np.flatnonzero((k > 0) & (k == contacts) & (flat_c[:, _PHASE] == LEAVING))
+        rows = rows[~np.isfinite(flat_log[rows, k[rows] - 1, 5])]
+        # (leave: time, tilt, x, y, z, in the log's order of t_end, tilt_end, x_end)
+        flat_log[rows, k[rows] - 1, 5:10] = leave.reshape(-1, leave.shape[-1])[rows]
+        return Tracker(counters=counters, leave=leave, log=flat_log.reshape(log.shape))
+
 
 @document_fields
 @jax.tree_util.register_dataclass

@@ -204,8 +204,8 @@ def make_objective(kind: str, config: SimConfig, stone: RigidStone, water: Water
         valid = jnp.all(jnp.stack([jnp.all(jnp.isfinite(a)) for a in leaves])) & (throw.speed > 0.0)
         # A bad throw is swapped for the default one before the run (the double-where: the run's backward pass
         # would multiply NaN Jacobians by the zero cotangent), so its gradient is 0, its value NaN below.
-        safe = jax.tree_util.tree_map(lambda a: jnp.asarray(a, jnp.result_type(a)), Throw.create())
-        throw = jax.tree_util.tree_map(lambda a, d: jnp.where(valid, a, d.astype(jnp.result_type(a))), throw, safe)
+        throw = jax.tree_util.tree_map(lambda a, d: jnp.where(valid, a, jnp.asarray(d, jnp.result_type(a))), throw,
+                                       Throw.create())
         if kind == "bounces":
             _state, tr, value = soft_bounce_rollout(config, throw, stone, water, config.bounce_clearance, width)
         else:
