@@ -24,7 +24,7 @@ from ._text import plural
 from ._progress import LOG_INTERVAL
 from .body import DENSITY_RANGE
 from .forces import COEFFICIENT_MAX, DEFAULT_COEFFICIENTS, VELOCITIES
-from .simulate import DIVERGED_SPEED, MAX_DT, MAX_STEPS, DivergedWarning, SimConfig
+from .simulate import DIVERGED_SPEED, MAX_BOUNCE_CLEARANCE, MAX_DT, MAX_STEPS, DivergedWarning, SimConfig
 from .throw import MAX_HEADING, MAX_HEIGHT, MAX_SPEED, MAX_SPIN_REVS
 from .settings import SIM_DEFAULTS, describe, environment, simulation  # noqa: F401 (shared with cli_search)
 
@@ -127,6 +127,10 @@ def add_common(p, *, stone="paper", attitude="free", plot="write a picture (PNG/
     p.add_argument("--max-steps", type=_int, metavar="N",
                    help=f"step budget, in [1, {MAX_STEPS}] (default: enough to spend --duration in the water at "
                         f"--dt; {SimConfig().max_steps} at the defaults)")
+    p.add_argument("--bounce-clearance", type=_float, metavar="M",
+                   help=f"what counts as a bounce: the height [m] the stone's lowest point must rise above the water "
+                        f"after a contact, in (0, {MAX_BOUNCE_CLEARANCE:g}] (default {SIM_DEFAULTS['bounce_clearance']:g};"
+                        " the magic angle moves with it: docs/model.md)")
     p.add_argument("--json", action="store_true", help="print one JSON object on stdout (progress goes to stderr)")
     p.add_argument("--progress", action=argparse.BooleanOptionalAction,
                    help="a progress line on stderr: --progress also when stderr is a file or a pipe (a line every "
@@ -285,7 +289,8 @@ def _summary(result) -> str:
         f"after {result.final_time:.2f} s ({plural(result.steps, 'step')}, {result.wall_time:.2f} s wall)",
         f"stone {result.stone_name} ({result.mass * 1e3:.1f} g), force law {result.config.force.law} "
         f"({_law_words(result)}), attitude {result.config.attitude}, integrator {result.config.integrator}, "
-        f"dt {result.config.dt:g} s",
+        f"dt {result.config.dt:g} s" + ("" if result.config.bounce_clearance == SIM_DEFAULTS["bounce_clearance"] else
+                                         f", bounce clearance {result.config.bounce_clearance:g} m"),
     ]
     if result.contacts:
         lines.append("  #   start [s]  length [ms]   downrange [m]   tilt in -> out [deg]   tilt direction in -> out [deg]")

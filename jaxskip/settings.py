@@ -1,8 +1,9 @@
 """Simulation settings in user terms -> the library's objects, shared by the CLI and the sweeps.
 
 One place turns the values of ``jaxskip throw``'s simulation flags (stone, mass or density, force
-law and coefficients, velocity, attitude, integrator, dt [s], duration [s], max_steps) into a
-validated ``(SimConfig, WaterParams, RigidStone)``, and back into a JSON-ready description.
+law and coefficients, velocity, attitude, integrator, dt [s], duration [s], max_steps, bounce
+clearance [m]) into a validated ``(SimConfig, WaterParams, RigidStone)``, and back into a JSON-ready
+description.
 """
 
 from __future__ import annotations
@@ -15,16 +16,18 @@ from ._checks import ParameterError
 #: ``max_steps`` None: enough steps to spend ``duration`` in the water at ``dt``.
 SIM_DEFAULTS = {"stone": "paper", "mass": None, "density": None, "force_law": "bocquet", "c_lift": None,
                 "c_friction": None, "velocity": "body", "attitude": "free", "integrator": "euler", "dt": 2.5e-4,
-                "duration": 5.0, "max_steps": None}
+                "duration": 5.0, "max_steps": None, "bounce_clearance": 1e-3}
 
 
 def simulation(*, stone, mass, density, force_law, c_lift, c_friction, velocity, attitude, integrator, dt, duration,
-               max_steps):
+               max_steps, bounce_clearance):
     """User values (the keys of :data:`SIM_DEFAULTS`) -> validated ``(SimConfig, WaterParams, RigidStone)``.
 
     ``stone``: a built-in name or an ``.obj`` path [m]; ``mass`` [kg] or ``density`` [kg/m^3] (None: the
     stone's own); ``c_lift``/``c_friction`` None: the force law's calibrated values; ``dt`` and
-    ``duration`` [s]; ``max_steps`` None: :func:`jaxskip.steps_for` of ``duration`` and ``dt``.
+    ``duration`` [s]; ``max_steps`` None: :func:`jaxskip.steps_for` of ``duration`` and ``dt``;
+    ``bounce_clearance`` [m]: how high the stone's lowest point must rise for a contact to count as a bounce
+    (:attr:`jaxskip.SimConfig.bounce_clearance`).
     """
     from . import ForceModel, SimConfig, water_params
     from .api import resolve_stone
@@ -42,7 +45,7 @@ def simulation(*, stone, mass, density, force_law, c_lift, c_friction, velocity,
             raise ParameterError(f"duration ({duration:g} s) needs {max_steps} steps of dt = {dt:g} s, more than the "
                                  f"{MAX_STEPS} a run may take: shorten duration or lengthen dt (--duration, --dt in the CLI)")
     config = SimConfig(dt=dt, duration=duration, max_steps=max_steps, integrator=integrator, attitude=attitude,
-                       force=ForceModel(law=force_law, velocity=velocity))
+                       force=ForceModel(law=force_law, velocity=velocity), bounce_clearance=bounce_clearance)
     water = water_params(force_law, c_lift=c_lift, c_friction=c_friction)
     try:
         rigid, _ = resolve_stone(stone, mass=mass, density=density)
@@ -76,4 +79,4 @@ def describe(stone, config, water, rigid) -> dict:
     return {"stone": str(stone), "mass": float(rigid.mass), "attitude": config.attitude,
             "integrator": config.integrator, "force_law": config.force.law, "velocity": config.force.velocity,
             "c_lift": float(water.c_lift), "c_friction": float(water.c_friction), "dt": config.dt,
-            "duration": config.duration, "max_steps": config.max_steps}
+            "duration": config.duration, "max_steps": config.max_steps, "bounce_clearance": config.bounce_clearance}

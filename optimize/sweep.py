@@ -222,6 +222,10 @@ class SweepSpec:
     """Simulated time limit [s]."""
     max_steps: int
     """Step budget per throw (resolved)."""
+    bounce_clearance: float
+    """What counts as a bounce [m]: the height the stone's lowest point must rise above the water after a contact
+    (:attr:`jaxskip.SimConfig.bounce_clearance`; a spec.json written before it was recorded used 1e-3, the
+    default then and now, and is read so)."""
     config: dict
     """The resolved simulation configuration (:func:`jaxskip.settings.describe`: the stone's mass, the law's
     coefficients, ...), as ``jaxskip optimize --json`` reports it, and ``precision``: ``"float64"`` or
@@ -256,7 +260,7 @@ def make_spec(kind: str, *, tilts, attacks=(REFERENCE["attack"],), speed: float 
     (default: the tilt held, Clanet's high-spin limit) or ``"free"`` (6-DoF). ``sim``: the
     other simulation settings of ``jaxskip throw``, named and defaulted as
     :data:`jaxskip.settings.SIM_DEFAULTS` (``mass``, ``density``, ``force_law``, ``c_lift``, ``c_friction``,
-    ``velocity``, ``integrator``, ``dt``, ``duration``, ``max_steps``); the stone is loaded here and the
+    ``velocity``, ``integrator``, ``dt``, ``duration``, ``max_steps``, ``bounce_clearance`` [m]); the stone is loaded here and the
     resolved configuration kept in the spec's ``config``. ``chunk_size``: work items per chunk file, an
     integer >= 1: tilts (umin) or grid points (domain); default :func:`default_chunk_size` (about
     :data:`CHUNKS` chunks), so that a default sweep resumes and shards.
@@ -299,6 +303,7 @@ def make_spec(kind: str, *, tilts, attacks=(REFERENCE["attack"],), speed: float 
     # the resolved step budget, and plain floats (a NumPy float32 dt or mass ended a sweep with an out folder in
     # a raw 'not JSON serializable' error, and spec.to_dict() was not the JSON-ready dict it says)
     sim.update(max_steps=int(config.max_steps), dt=float(config.dt), duration=float(config.duration),
+               bounce_clearance=float(config.bounce_clearance),
                **{k: None if sim[k] is None else float(sim[k]) for k in ("mass", "density", "c_lift", "c_friction")})
     # a coefficient given at the law's calibrated value is the default said aloud: stored as the default
     # (None), so that the same sweep resumes whether or not it was given (--c-lift 1 was another sweep)
@@ -730,10 +735,20 @@ SPEC_REMEDY = ("it records which sweep the folder holds, so the chunk files besi
                "use a new folder (or delete this whole folder)")
 
 
+#: Settings recorded in spec.json since sweeps were first written, with the value every sweep written before
+#: used: such a folder is read as holding them, so that it resumes, and merges with shards made now.
+SPEC_ADDED = {"bounce_clearance": 1e-3}
+
+
 def _read_spec(path: Path) -> dict:
     data = _read_json(path, SPEC_REMEDY)
     if not isinstance(data, dict):
         raise ParameterError(f"{str(path)!r} is damaged (not a JSON object); {SPEC_REMEDY}")
+    if "kind" in data:   # (what an older jaxskip wrote; a damaged file stays damaged)
+        for key, value in SPEC_ADDED.items():
+            data.setdefault(key, value)
+            if isinstance(data.get("config"), dict):
+                data["config"].setdefault(key, value)
     return data
 
 

@@ -107,6 +107,8 @@ def test_obj_stone(tmp_path):
     (["--stone", "clanet", "--mass", "-1"], "--mass must be in [0.000537, 0.134] kg for this stone"),
     (["--duration", "0"], "--duration must be >= dt, the time step (0.00025 s; --dt in the CLI), got 0 s"),
     (["--duration", "-1", "--dt", "1e-4"], "--duration must be >= dt, the time step (0.0001 s; --dt in the CLI), got -1 s"),
+    (["--bounce-clearance", "0"], "--bounce-clearance must be in (0, 0.01] m"),
+    (["--bounce-clearance", "0.05"], "--bounce-clearance must be in (0, 0.01] m, got 0.05"),
 ])
 def test_bad_input_exits_2_without_traceback(args, needle):
     p = run("throw", *args)
@@ -696,3 +698,18 @@ def test_a_held_tilts_energy_gain_is_blamed_on_the_step(capsys):
     assert "the water added energy" not in out
     assert "pump a" not in out and "--stone 'clanet' is lighter" not in err
     assert "the 'clanet' stone at this mass or density is lighter than water" in err
+
+
+def test_bounce_clearance_flag_sets_what_counts_as_a_bounce(capsys):
+    """``--bounce-clearance M`` (Python only before): the default throw's later hops rise only millimetres, so
+    asking for 5 mm of clearance merges some of them into their contacts (18 bounces at the 1 mm default, 14 at
+    5 mm: the same trajectory, 1.742 m either way), and the JSON's parameters say which was used."""
+    runs = {}
+    for flag in ([], ["--bounce-clearance", "0.005"]):
+        assert main(["throw", "--json", *flag]) == 0
+        runs[tuple(flag)] = json.loads(capsys.readouterr().out)
+    default, high = runs[()], runs[("--bounce-clearance", "0.005")]
+    assert (default["parameters"]["bounce_clearance"], high["parameters"]["bounce_clearance"]) == (1e-3, 5e-3)
+    assert high["bounces"] < default["bounces"] and high["distance"] == default["distance"]
+    assert main(["throw", "--bounce-clearance", "0.005"]) == 0
+    assert "dt 0.00025 s, bounce clearance 0.005 m\n" in capsys.readouterr().out   # (the default is not said)

@@ -163,7 +163,8 @@ def test_optimize_random_json(capsys):
     assert set(r["best"]) == {"speed", "tilt", "attack", "spin"}
     assert r["config"] == {"stone": "paper", "mass": pytest.approx(0.1207, abs=1e-4), "attitude": "fixed",
                            "integrator": "euler", "force_law": "bocquet", "velocity": "body", "c_lift": 1.0,
-                           "c_friction": 0.3, "dt": 2.5e-4, "duration": 5.0, "max_steps": 20250}
+                           "c_friction": 0.3, "dt": 2.5e-4, "duration": 5.0, "max_steps": 20250,
+                           "bounce_clearance": 1e-3}
     assert r["environment"]["float64"] is True and r["environment"]["jaxskip"]  # the tests run in float64
 
 

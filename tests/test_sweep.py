@@ -202,6 +202,33 @@ def test_folder_of_another_sweep_is_refused(tmp_path):
         run_sweep(spec, tmp_path)
 
 
+def test_bounce_clearance_is_part_of_a_sweep_and_older_folders_resume(tmp_path):
+    """What counts as a bounce (``bounce_clearance`` [m], ``--bounce-clearance``) moves a sweep's answer, so
+    spec.json records it: another clearance is refused in the folder, naming it; a folder written before it was
+    recorded (its spec.json without it: every such sweep used the 1 mm default) resumes as the same sweep, to
+    the same files."""
+    spec = small_domain()
+    whole = run_sweep(spec, tmp_path / "whole")
+    high = make_spec("domain", tilts=[10.0, 30.0], attacks=[10.0, 40.0], speed=3.5, chunk_size=1,
+                     bounce_clearance=0.01)
+    assert high.bounce_clearance == 0.01 and high.config["bounce_clearance"] == 0.01
+    assert run_sweep(high, None)["bounces"] == [[1, 0], [0, 0]] != whole["bounces"] == [[4, 0], [1, 0]]
+    with pytest.raises(ParameterError, match=r"different sweep \(its spec.json differs in bounce_clearance, config: "
+                                              r"it has bounce_clearance=0.001"):
+        run_sweep(high, tmp_path / "whole")
+    with pytest.raises(KeyboardInterrupt):
+        run_sweep(spec, tmp_path / "old", _stop_after=2)
+    path = tmp_path / "old" / "spec.json"
+    data = json.loads(path.read_text())
+    del data["bounce_clearance"], data["config"]["bounce_clearance"]   # as an older jaxskip wrote it
+    path.write_text(json.dumps(data, sort_keys=True, indent=1))
+    assert run_sweep(spec, tmp_path / "old") == whole
+    for name in ("result.json", "result.csv"):
+        assert (tmp_path / "old" / name).read_bytes() == (tmp_path / "whole" / name).read_bytes()
+    with pytest.raises(ParameterError, match="differs in bounce_clearance"):
+        run_sweep(high, tmp_path / "old")
+
+
 def test_a_folder_of_another_sweep_is_named_briefly(tmp_path):
     """The refusal quotes a long grid by its ends and length (it quoted all 40 tilts: a 2 kB 'one line'), and
     a merge is told to merge elsewhere (it was told to give settings that merge does not take)."""
