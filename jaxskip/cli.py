@@ -259,7 +259,8 @@ def build_parser(argv=None) -> argparse.ArgumentParser:
     t.add_argument("--trajectory", metavar="PATH.csv|.json", default=None,
                    help="write the motion as evenly spaced frames for animation or other tools: time, position, "
                         "quaternion (w, x, y, z), velocity, in water (SI); the stone in the body frame the "
-                        "quaternions rotate goes beside it (PATH.stone.obj)")
+                        "quaternions rotate goes beside it (PATH.stone.obj); z up; the last frame is the run's end "
+                        "(the outcome), off the frame grid")
     t.add_argument("--fps", type=_float, default=None, metavar="N",
                    help="(--trajectory) frames per second, in (0, 10000] (default 60; a stone spinning faster "
                         "than a quarter turn a frame is warned of, with the rate that would show it)")

@@ -179,6 +179,20 @@ def _same_name(owner: str, path: str) -> bool:
     return owner.split() == os.path.basename(path).split()
 
 
+def _siblings(path: str) -> list:
+    """The other trajectories that share ``path``'s stone file, by file name: ``throw.json`` beside ``throw.csv``."""
+    stem, found = os.path.splitext(path)[0], []
+    for suffix in (".csv", ".json", ".CSV", ".JSON"):
+        other = stem + suffix
+        if not os.path.isfile(other):
+            continue
+        # (itself, or one already found, under another case of its suffix on a case-blind disk)
+        if any(os.path.exists(p) and os.path.samefile(other, p) for p in [path, *found]):
+            continue
+        found.append(other)
+    return [os.path.basename(p) for p in found]
+
+
 def check_stone_file(path) -> None:
     """Refuse, before a run, a trajectory ``path`` whose stone file (:func:`stone_path`) exists and was not
     written by :func:`write_trajectory`: a user's own ``throw.stone.obj`` is never overwritten."""
@@ -268,8 +282,7 @@ def write_trajectory(result, path, fps: float = 60.0, mesh: TriMesh | None = Non
     to world (z up, the water at z = 0).
 
     * ``.csv``: plain, no comment lines: the column names :data:`COLUMNS` on the first line, then one
-      row per frame (time with 6 decimals, the other values with 9 significant digits, ``in_water``
-      0 or 1).
+      row per frame (9 significant digits, ``in_water`` 0 or 1).
     * ``.json``: one object ``{"about": text (the throw, as the OBJ's first line), "fps": fps, "units":
       {key: unit}, "stone_obj": the OBJ's file name, "frames": {key: list, one value per frame}}`` with
       the keys ``t, x, y, z, qw, qx, qy, qz, vx, vy, vz, in_water`` (not :data:`COLUMNS`: no units in
@@ -285,7 +298,8 @@ def write_trajectory(result, path, fps: float = 60.0, mesh: TriMesh | None = Non
 
     The stone is written in the body frame those quaternions rotate (:func:`body_mesh`) as an OBJ at
     :func:`stone_path` (``PATH`` with :data:`STONE_SUFFIX`: ``throw.csv`` -> ``throw.stone.obj``), its first
-    line a comment describing the throw (stone, mass, speed, angles, spin, bounces, outcome, frame rate);
+    line a comment describing the throw (stone, mass, speed, angles, spin, bounces, outcome and when the motion
+    ends, the conventions; not the frame rate, so that one stone serves the throw's trajectories at any rate);
     that path is returned. An existing file there is overwritten only if this function wrote it, for this
     trajectory or for another of the same throw (``throw.json`` after ``throw.csv``); a file it did not
     write (your own mesh) or another throw's stone is refused with a :class:`ParameterError`, before
@@ -331,8 +345,10 @@ def write_trajectory(result, path, fps: float = 60.0, mesh: TriMesh | None = Non
     about = (f"jaxskip trajectory {os.path.basename(path)}: {result.stone_name} stone of {result.mass * 1e3:.1f} g "
              f"in its body frame (centre of mass, principal axes); speed {float(t.speed):g} m/s, tilt "
              f"{math.degrees(float(t.tilt)):g} deg, attack {math.degrees(float(t.attack)):g} deg, spin "
-             f"{float(t.spin) / (2 * math.pi):g} rev/s; {result.bounces} bounces, {result.outcome}; "
-             f"{fps:g} frames/s; world frame z up, " + _water_words(result))
+             f"{float(t.spin) / (2 * math.pi):g} rev/s; {result.bounces} bounces, {result.outcome}; the motion "
+             f"ends there, at t = {float(f['time'][-1]):.9g} s, the last frame's time (off the frame grid "
+             "unless it falls on it); quaternions (w, x, y, z) rotate the body frame to the world frame, z up "
+             "(an OBJ importer that assumes y up must be told z up); " + _water_words(result))
     if placed is None:
         stone = dataclasses.replace(body_mesh(result.rigid), name=about)
     else:   # the mesh's own vertex order; where its frame lies
@@ -341,21 +357,28 @@ def write_trajectory(result, path, fps: float = 60.0, mesh: TriMesh | None = Non
                   f"({', '.join(f'{x:.9g}' for x in c)}) m, rotation (w, x, y, z) = "
                   f"({', '.join(f'{x:.9g}' for x in _quaternion(axes.T))})")
         stone = TriMesh((np.asarray(mesh.vertices, dtype=np.float64) - c) @ axes, np.asarray(mesh.faces), name=about)
-    if owner is not None and not _same_name(owner, path):
-        # the stone of another trajectory (throw.json's, now writing throw.csv): replaced only if it is the
-        # same stone of the same throw, told apart by nothing but the trajectory's name
+    if owner is not None:
+        # the stone of another trajectory (throw.json's, now writing throw.csv), or of this one beside another
+        # (throw.csv again, throw.json beside it): replaced only if it is the same stone of the same throw, told
+        # apart by nothing but the trajectory's name (a throw.csv of another stone gave throw.json its stone)
         with open(obj, encoding="utf-8", errors="replace") as fh:
             same = _drop_owner(fh.read()) == _drop_owner(obj_text(stone))
-        if not same:
+        beside = _siblings(path)
+        if not same and not _same_name(owner, path):
             raise ParameterError(f"the trajectory's stone file {obj!r} holds the stone of another throw, written "
                                  f"with the trajectory {owner!r}: writing {os.path.basename(path)!r} would replace it; "
                                  "choose another trajectory name")
+        if not same and beside:
+            raise ParameterError(f"the trajectory's stone file {obj!r} holds the stone of another throw, which the "
+                                 f"trajectory {beside[0]!r} beside it was written with: writing "
+                                 f"{os.path.basename(path)!r} would give {beside[0]!r} this throw's stone; delete "
+                                 f"{beside[0]!r} or choose another trajectory name")
     write_obj(obj, stone)
     table = np.column_stack([f["time"], f["position"], f["orientation"], f["velocity"],
                              f["in_water"].astype(np.float64)])
     if path.lower().endswith(".csv"):
         with writing(path):
-            np.savetxt(path, table, delimiter=",", fmt=["%.6f"] + ["%.9g"] * 10 + ["%d"],
+            np.savetxt(path, table, delimiter=",", fmt=["%.9g"] * 11 + ["%d"],
                        header=",".join(COLUMNS), comments="")
         return obj
     keys = ("t", "x", "y", "z", "qw", "qx", "qy", "qz", "vx", "vy", "vz")

@@ -115,7 +115,9 @@ def plot_throw(result, path=None, *, ax=None):
     th = result.throw
     throw = (f"{result.stone_name} stone, {result.mass * 1e3:.1f} g: "
              f"{float(th.speed):.1f} m/s, tilt {math.degrees(float(th.tilt)):.1f}°, "
-             f"attack {math.degrees(float(th.attack)):.1f}°, spin {float(th.spin) / (2 * math.pi):.1f} rev/s")
+             f"attack {math.degrees(float(th.attack)):.1f}°, spin {float(th.spin) / (2 * math.pi):.1f} rev/s"
+             # (the side view is drawn along the heading: a throw along +y looked like one along +x; a review)
+             + (f", heading {math.degrees(float(th.heading)):.1f}°" if float(th.heading) != 0.0 else ""))
     # (three significant figures: a 4 cm throw read "0.0 m"; a review)
     far = f"{result.distance:.3g} m" if result.distance >= 1e-3 else "< 1 mm"
     outcome = f"{plural(result.bounces, 'bounce')}, {far}, {result.outcome.replace('_', ' ')}"
@@ -153,6 +155,8 @@ def plot_throw(result, path=None, *, ax=None):
     if stretch >= 1.5:
         side.set_ylabel(f"height [cm]\n(drawn ×{stretch:.0f} tall)" if stretch >= 10 else
                         f"height [cm]\n(drawn ×{stretch:.1f} tall)")
+    elif stretch <= 1 / 1.5:   # (a steep, short throw drawn flattened, unsaid: 63° looked shallow; a review)
+        side.set_ylabel(f"height [cm]\n(drawn ×{stretch:.2f} tall)")
     if path is not None:
         with writing(path):
             fig.savefig(path, dpi=130)

@@ -343,3 +343,48 @@ def test_trajectory_json_is_strict_and_says_its_spin_and_units(default_throw, tm
     data = json.loads(text, parse_constant=lambda c: pytest.fail(f"bare {c} in the JSON"))
     assert None in data["frames"]["x"] and "NaN" not in text
     assert set(WATER_UNITS) >= {"shape", "spacing", "depth", "time_step", "volume_change"}
+
+
+def test_one_stone_file_serves_a_throw_at_any_frame_rate_and_another_throw_never_takes_it(default_throw, tmp_path):
+    """(stop 47, an animator's review) throw.json at 60 frames/s then throw.csv of the same throw at 24 was refused
+    as "the stone of another throw": the stone file's first line held the frame rate. And throw.csv of another
+    stone, written again beside throw.json, replaced their shared stone file in silence, leaving throw.json with
+    the wrong stone. Now the first is accepted (one stone file, its text independent of the rate) and the second
+    refused, naming throw.json, before anything is written."""
+    from jaxskip import simulate
+
+    write_trajectory(default_throw, tmp_path / "throw.json", fps=60.0)
+    stone = (tmp_path / "throw.stone.obj").read_text()
+    write_trajectory(default_throw, tmp_path / "throw.csv", fps=24.0)
+    again = (tmp_path / "throw.stone.obj").read_text()
+    assert again.replace("throw.csv:", "throw.json:", 1) == stone
+    before = (tmp_path / "throw.csv").read_bytes()
+    other = simulate(stone="clanet", config=SimConfig(duration=0.05))
+    with pytest.raises(ParameterError, match=r"holds the stone of another throw, which the trajectory 'throw.json' "
+                                             r"beside it was written with: .*delete 'throw.json'"):
+        write_trajectory(other, tmp_path / "throw.csv")
+    assert (tmp_path / "throw.stone.obj").read_text() == again and (tmp_path / "throw.csv").read_bytes() == before
+    write_trajectory(other, tmp_path / "alone.csv")     # a trajectory with nothing beside it: its own, as before
+    write_trajectory(default_throw, tmp_path / "alone.csv")
+    assert "paper stone" in (tmp_path / "alone.stone.obj").read_text().splitlines()[0]
+
+
+def test_the_files_say_when_the_motion_ends_and_how_quaternions_turn(default_throw, tmp_path):
+    """(stop 47, an animator's review) the CSV's times had 6 decimals, so at 3000 frames/s they stepped 0.000333 and
+    0.000334 by turns; the last frame (the run's end, off the grid) and the quaternions' direction were said only in
+    docstrings. Times have 9 significant digits now; the stone file's first line and the JSON's ``about`` say
+    both."""
+    import csv
+
+    write_trajectory(default_throw, tmp_path / "fast.csv", fps=3000.0)
+    with open(tmp_path / "fast.csv") as fh:
+        t = np.array([float(row["t_s"]) for row in csv.DictReader(fh)])
+    f = frames(default_throw, fps=3000.0)
+    np.testing.assert_allclose(np.diff(t[:-1]), 1 / 3000, rtol=0, atol=2e-9)
+    assert t[-1] == pytest.approx(f["time"][-1], abs=1e-9) and f["time"][-1] - f["time"][-2] < 1 / 3000
+    write_trajectory(default_throw, tmp_path / "t.json", fps=60.0)
+    about = json.loads((tmp_path / "t.json").read_text())["about"]
+    assert f"18 bounces, sank; the motion ends there, at t = {f['time'][-1]:.9g} s, the last frame's time" in about
+    assert "quaternions (w, x, y, z) rotate the body frame to the world frame, z up" in about
+    first = (tmp_path / "t.stone.obj").read_text().splitlines()[0]
+    assert " ".join(first.split()).startswith(" ".join(("# " + about + ":").split()))   # (+ the mesh's size)

@@ -331,6 +331,24 @@ def test_the_side_view_says_how_much_it_stretches_heights():
     said = re.search(r"drawn ×(\d+) tall", side.get_ylabel())
     assert said and int(said.group(1)) == round(_vertical_stretch(side)) and 5 < int(said.group(1)) < 30
     plt.close(fig)
+    # (stop 47, a review) a steep, short throw drawn flattened (×0.42: a 63° climb looked shallow) said nothing
+    fig = plot_throw(simulate(Throw.from_degrees(speed=1.0, attack=60.0)))
+    side = fig.axes[0]
+    said = re.search(r"drawn ×(0\.\d+) tall", side.get_ylabel())
+    assert said and float(said.group(1)) == pytest.approx(_vertical_stretch(side), abs=0.005), side.get_ylabel()
+    assert _vertical_stretch(side) < 1 / 1.5
+    plt.close(fig)
+
+
+def test_the_side_views_title_gives_a_heading_other_than_zero():
+    """(stop 47, an animator's review) a throw along +y (heading 90°) had the same title as one along +x, while the
+    side view is drawn along the heading and the exported motion runs along y."""
+    titles = {}
+    for heading in (0.0, 90.0):
+        fig = plot_throw(simulate(Throw.from_degrees(heading=heading), config=SimConfig(duration=0.05)))
+        titles[heading] = " ".join(a.get_title() for a in fig.axes)
+        plt.close(fig)
+    assert "heading 90.0°" in titles[90.0] and "heading" not in titles[0.0], titles
 
 
 def test_animation_frames_share_one_palette():
