@@ -135,7 +135,7 @@ def add_parsers(sub, ranges: bool = True) -> None:
     _only(s, SWEEP_FLAGS, "--chunk-size", "work items per chunk file, >= 1: tilts (umin) or grid points (domain) "
           "(default: ceil(items / 8), at least 256 grid points for domain)", type=_int, metavar="N")
     _only(s, SWEEP_FLAGS, "--shard-index", "this machine's shard, in [0, N-1] for --num-shards N (default 0; "
-          "needs --out)", type=_int, metavar="I")
+          "needs --out; required when N > 1)", type=_int, metavar="I")
     _only(s, SWEEP_FLAGS, "--num-shards", "machines sharing the sweep, >= 1 (default 1; needs --out)", type=_int,
           metavar="N")
     add_common(s, stone="clanet", attitude="fixed")
@@ -346,6 +346,10 @@ def run_sweep_command(args) -> int:
                                  "for `jaxskip sweep merge`")
         if args.shard_index is not None and args.num_shards is None:
             raise ParameterError("--shard-index needs --num-shards N (the number of machines sharing the sweep)")
+        if args.num_shards is not None and args.num_shards > 1 and args.shard_index is None:
+            # (it ran shard 0: a second machine that forgot the flag repeated the first's work; a review)
+            raise ParameterError(f"--num-shards {args.num_shards} needs --shard-index I, this machine's shard, in "
+                                 f"[0, {args.num_shards - 1}]")
         # (an empty --tilts "" is refused, not taken for the default)
         tilts = _values("5:60:12" if args.tilts is None else args.tilts, "--tilts")
         attacks = _values(("20" if args.kind == "umin" else "0:60:13") if args.attacks is None else args.attacks,

@@ -355,7 +355,9 @@ def _domain_chunk(spec: SweepSpec, sim, index: np.ndarray, progress: bool) -> di
     t_start = r.tracker.t_start[:, 0]
     # "first_contact_time": the first contact's duration [s] (t_end - t_start), NaN (None in the file) where
     # there was no contact or it never ended in a bounce; not the time at which it happened.
-    first = np.where(np.isfinite(t_end), t_end - t_start, np.nan)
+    # (its end was taken as the run's where the duration cut the contact off: 0.279 s "long", with 0 bounces; a
+    # review) The first contact ended in a bounce exactly where the throw bounced at all.
+    first = np.where((np.asarray(r.bounces) > 0) & np.isfinite(t_end), t_end - t_start, np.nan)
     # "diverged": 1 where the throw's integration failed (outcome 'diverged'): its count means nothing;
     # "cut_off": 1 where it was still in play at the duration or step limit: its count is a lower bound
     cut = np.isin(r.outcome_names, CUT_OFF)
@@ -377,13 +379,13 @@ def _umin_chunk(spec: SweepSpec, sim, index: np.ndarray, progress: bool) -> dict
     failed = np.zeros(n, int)  # the tilt's throws that diverged
     unknown = np.zeros(n, int)  # ...and those cut off by the duration or step limit before a bounce
 
-    def bounces(speed):
-        """Counts (n, k) of the throws at speeds (n, k) [m/s], row i at tilt i."""
+    def bounces(speed, show=False):
+        """Counts (n, k) of the throws at speeds (n, k) [m/s], row i at tilt i (``show``: the batch's progress)."""
         nonlocal failed, unknown
         k = speed.shape[1]
         throws = Throw.from_degrees(speed=speed.ravel(), tilt=np.repeat(tilt, k), attack=spec.attacks[0],
                                     spin=spec.spin)
-        r, diverged = _batch(throws, sim, False)
+        r, diverged = _batch(throws, sim, show)
         failed = failed + diverged.reshape(n, k).sum(axis=1)
         # no bounce yet when the run stopped it: whether it would bounce is unknown, not "no"
         unknown = unknown + (np.isin(r.outcome_names, CUT_OFF) & (np.asarray(r.bounces) == 0)).reshape(n, k).sum(axis=1)
@@ -392,7 +394,7 @@ def _umin_chunk(spec: SweepSpec, sim, index: np.ndarray, progress: bool) -> dict
     # the bracket's ends and SCAN_SPEEDS speeds between them, in one batch
     speeds = lo[:, None] + (hi - lo)[:, None] * (np.arange(SCAN_SPEEDS + 2) / (SCAN_SPEEDS + 1))[None, :]
     speeds[:, -1] = hi
-    ladder = bounces(speeds)
+    ladder = bounces(speeds, progress)   # (the largest batch: silent for a minute at 800 tilts; a review)
     at_low, at_high = ladder[:, 0], ladder[:, -1]
     bounced = ladder > 0
     monotone = np.all(bounced[:, 1:] >= bounced[:, :-1], axis=1)
@@ -544,22 +546,24 @@ def run_sweep(spec: SweepSpec, out_dir=None, *, shard_index: int = 0, num_shards
     chunks = _chunks(spec)
     results, computed = {}, 0
     paths = [None if out is None else out / f"chunk-{j:05d}.json" for j in range(len(chunks))]
+    # every chunk already there is checked before any is computed (a damaged last chunk was found hours later, when
+    # the loop reached it; a review)
+    for j, (index, path) in enumerate(zip(chunks, paths)):
+        if path is not None and path.exists():
+            results[j] = _load_chunk(path, spec, j, index, RECOMPUTE)
     if progress and out is not None:
-        kept = sum(1 for p in paths if p.exists())
+        kept = len(results)
         if kept:
             print(f"  {kept} of {len(chunks)} chunks already in {str(out)!r} (kept, not recomputed)", file=sys.stderr,
                   flush=True)
-    if any(j % num_shards == shard_index and (p is None or not p.exists()) for j, p in enumerate(paths)):
+    if any(j % num_shards == shard_index and j not in results for j in range(len(chunks))):
         # once for the run, at its fastest throw (each batch's own warning is silenced)
         config, water, rigid = sim
         warn_stability(config, rigid, water, spec.speed_range[1] if spec.kind == "umin" else spec.speed,
                        stacklevel=caller_level() + 1)
     with silenced_batches():
         for j, (index, path) in enumerate(zip(chunks, paths)):
-            if path is not None and path.exists():
-                results[j] = _load_chunk(path, spec, j, index, RECOMPUTE)
-                continue
-            if j % num_shards != shard_index:
+            if j in results or j % num_shards != shard_index:
                 continue
             if _stop_after is not None and computed >= _stop_after:
                 raise KeyboardInterrupt(f"stopped after {computed} chunks (test)")
@@ -567,7 +571,7 @@ def run_sweep(spec: SweepSpec, out_dir=None, *, shard_index: int = 0, num_shards
                 what = ("tilt" if spec.kind == "umin" else "grid point") + ("" if len(index) == 1 else "s")
                 print(f"  chunk {j + 1}/{len(chunks)} ({len(index)} {what})", file=sys.stderr, flush=True)
             work = _domain_chunk if spec.kind == "domain" else _umin_chunk
-            data = {"chunk": j, "items": index.tolist(), **work(spec, sim, index, progress)}
+            data = {"chunk": j, "items": index.tolist(), "sweep": sweep_id(spec), **work(spec, sim, index, progress)}
             if path is not None:
                 _write_atomic(path, json.dumps(data, sort_keys=True))
             results[j] = data
@@ -694,6 +698,11 @@ def _chunk_problem(data, spec: SweepSpec, j: int, index: np.ndarray) -> str | No
         return f"it lacks {', '.join(map(repr, lacks))}"
     if data["chunk"] != j or data["items"] != index.tolist():
         return f"not chunk {j} of this sweep: its 'chunk' and 'items' differ"
+    # (one copied from another sweep's folder, of the same size, was kept in silence: 9 bisections where the
+    # spec said 10; a review) A chunk from before chunks named their sweep has no 'sweep': checked as before.
+    if "sweep" in data and data["sweep"] != sweep_id(spec):
+        return ("its 'sweep' is not this folder's: it is a chunk of another sweep (copied from another sweep's "
+                "folder?)")
     n = len(index)
     for key in CHUNK_COUNTS[spec.kind] + CHUNK_VALUES[spec.kind]:
         values = data[key]
@@ -719,6 +728,11 @@ def _chunk_problem(data, spec: SweepSpec, j: int, index: np.ndarray) -> str | No
         return ("it was written by an earlier jaxskip, which bisected a tilt over the whole bracket (its U_min could "
                 "lie above a speed its own scan saw bounce); delete the folder's chunk files to recompute them")
     return None
+
+
+def _chunk_values(data: dict) -> dict:
+    """A chunk's results, without the sweep it names (absent from chunks written before they named it)."""
+    return {k: v for k, v in data.items() if k != "sweep"}
 
 
 def _load_chunk(path: Path, spec: SweepSpec, j: int, index: np.ndarray, remedy: str) -> dict:
@@ -776,6 +790,12 @@ def _identity(spec: dict) -> dict:
         return spec
     return {**{k: v for k, v in spec.items() if k != "stone"},
             "config": {k: v for k, v in config.items() if k != "stone"}}
+
+
+def sweep_id(spec: SweepSpec) -> str:
+    """The SHA-256 (hex) of what makes ``spec`` one sweep (its spec.json but an ``.obj`` stone's path): every chunk
+    file records it as ``"sweep"``, so that a chunk of another sweep put in a folder is refused."""
+    return hashlib.sha256(json.dumps(_identity(spec.to_dict()), sort_keys=True).encode()).hexdigest()
 
 
 def _spec_difference(old: dict, new: dict) -> str:
@@ -1046,13 +1066,21 @@ def merge(folders, out_dir) -> dict:
                                  f"{str(folders[0])!r} ({_spec_difference(s, specs[0])})")
     spec = _spec_from_json(folders[0] / "spec.json", specs[0])
     chunks = _chunks(spec)
-    found = {}
+    found, source = {}, {}
     for f in folders:
         for j, index in enumerate(chunks):
             p = f / f"chunk-{j:05d}.json"
-            if p.exists() and j not in found:
-                found[j] = _load_chunk(p, spec, j, index, f"delete it and run the sweep again in {str(f)!r} (the "
-                                       "shard that computes that chunk), then merge")
+            if not p.exists():
+                continue
+            data = _load_chunk(p, spec, j, index, f"delete it and run the sweep again in {str(f)!r} (the shard that "
+                               "computes that chunk), then merge")
+            if j not in found:
+                found[j], source[j] = data, p
+            elif _chunk_values(data) != _chunk_values(found[j]):
+                # (the first copy was taken in silence; a review) Machines of other kinds may round differently.
+                raise ParameterError(f"{str(source[j])!r} and {str(p)!r} are two copies of chunk {j} that differ (two "
+                                     "shards computed it, on machines or versions that round differently?): delete "
+                                     "the one you do not trust, then merge")
     missing = [j for j in range(len(chunks)) if j not in found]
     if missing:
         raise ParameterError(f"chunks missing from every folder: {missing[:10]}{' ...' if len(missing) > 10 else ''}"

@@ -474,7 +474,8 @@ def test_count_flags_show_the_ranges_that_are_checked(capsys):
         assert shown in text, shown
     text = _help(["sweep", "umin"], capsys)
     for shown in ("bisection steps, in [1, 40] (default 10)", "work items per chunk file, >= 1:",
-                  "this machine's shard, in [0, N-1] for --num-shards N (default 0; needs --out)",
+                  "this machine's shard, in [0, N-1] for --num-shards N (default 0; needs --out; required when "
+                  "N > 1)",
                   "machines sharing the sweep, >= 1 (default 1; needs --out)"):
         assert shown in text, shown
     from optimize.search import MAX_ITERATIONS, MAX_PER_AXIS, MAX_SAMPLES, MAX_STARTS, MAX_THROWS
@@ -506,6 +507,12 @@ def test_shard_flags_say_what_is_missing_or_idle(tmp_path, capsys):
     assert main(argv + ["--shard-index", "1", "--out", str(tmp_path / "a")]) == 2
     assert capsys.readouterr().err == ("jaxskip: error: --shard-index needs --num-shards N (the number of machines "
                                        "sharing the sweep)\n")
+    # (stop 47, a review) --num-shards 2 alone ran shard 0: a second machine that forgot its index repeated it
+    assert main(argv + ["--num-shards", "2", "--out", str(tmp_path / "c")]) == 2
+    assert capsys.readouterr().err == ("jaxskip: error: --num-shards 2 needs --shard-index I, this machine's shard, "
+                                       "in [0, 1]\n") and not (tmp_path / "c").exists()
+    assert main(argv + ["--num-shards", "1", "--out", str(tmp_path / "d")]) == 0   # one machine: its only shard
+    capsys.readouterr()
     assert main(argv + ["--shard-index", "1", "--num-shards", "2", "--out", str(tmp_path / "b")]) == 0
     out = capsys.readouterr().out
     assert out.startswith("shard 1/2 has no chunk to compute: the sweep has only 1 (for the shards below 1)"), out

@@ -188,6 +188,67 @@ def test_shards_and_merge_equal_one_machine(tmp_path):
     assert (tmp_path / "merged" / "result.csv").read_bytes() == (tmp_path / "whole" / "result.csv").read_bytes()
 
 
+def test_a_chunk_of_another_sweep_is_refused_and_every_chunk_is_checked_before_any_is_computed(tmp_path):
+    """(stop 47, a review) A chunk file copied in from another sweep of the same layout (9 bisections where the
+    spec says 10) was kept in silence: a chunk names its sweep now (``"sweep"``, :func:`optimize.sweep.sweep_id`)
+    and another sweep's is refused, by run_sweep and by merge. A damaged chunk was found only when the loop
+    reached it, after computing the chunks before it: every chunk in the folder is checked first."""
+    from optimize.sweep import sweep_id
+
+    def spec(iterations):
+        return make_spec("umin", tilts=[10.0, 20.0, 30.0], iterations=iterations, chunk_size=1, max_steps=2000)
+
+    ten, nine = spec(10), spec(9)
+    assert sweep_id(ten) != sweep_id(nine)
+    run_sweep(nine, tmp_path / "nine")
+    with pytest.raises(KeyboardInterrupt):
+        run_sweep(ten, tmp_path / "ten", _stop_after=1)
+    assert json.loads((tmp_path / "ten" / "chunk-00000.json").read_text())["sweep"] == sweep_id(ten)
+    copied = tmp_path / "ten" / "chunk-00002.json"
+    copied.write_bytes((tmp_path / "nine" / "chunk-00002.json").read_bytes())
+    with pytest.raises(ParameterError, match=r"chunk-00002.json' is damaged \(its 'sweep' is not this folder's: it is "
+                                             r"a chunk of another sweep"):
+        run_sweep(ten, tmp_path / "ten")
+    assert not (tmp_path / "ten" / "chunk-00001.json").exists()   # refused before chunk 1 was computed
+    with pytest.raises(ParameterError, match="a chunk of another sweep"):
+        merge([tmp_path / "ten"], tmp_path / "merged")
+    copied.unlink()
+    whole = run_sweep(ten, tmp_path / "ten")
+    assert whole == run_sweep(ten, None)
+    # a chunk written before chunks named their sweep (no "sweep") is checked as before, and kept
+    old = json.loads(copied.read_text())
+    del old["sweep"]
+    copied.write_text(json.dumps(old, sort_keys=True))
+    (tmp_path / "ten" / "result.json").unlink()
+    assert run_sweep(ten, tmp_path / "ten") == whole
+
+
+def test_merge_refuses_two_copies_of_a_chunk_that_differ(tmp_path):
+    """(stop 47, a review) Merging folders that both held chunk 0, with other values (shards computed twice, on
+    machines that round differently), took the first copy in silence."""
+    spec = small_domain()
+    whole = run_sweep(spec, tmp_path / "a")
+    run_sweep(spec, tmp_path / "b")
+    assert merge([tmp_path / "a", tmp_path / "b"], tmp_path / "ab") == whole   # equal copies: fine
+    path = tmp_path / "b" / "chunk-00000.json"
+    data = json.loads(path.read_text())
+    data["bounces"] = [data["bounces"][0] + 1]
+    path.write_text(json.dumps(data, sort_keys=True))
+    with pytest.raises(ParameterError, match=r"chunk-00000.json' and '.*chunk-00000.json' are two copies of chunk 0 "
+                                             r"that differ"):
+        merge([tmp_path / "a", tmp_path / "b"], tmp_path / "ab2")
+
+
+def test_a_first_contact_cut_off_by_the_time_limit_has_no_duration():
+    """(stop 47, a review) A domain sweep gave a "first contact time" of 0.279 s, with 0 bounces, for a contact
+    the duration (0.3 s) cut off: its end was the run's. It is None now, as where a contact never ended in a
+    bounce (the throw with 5 s sinks in that contact)."""
+    cut = run_sweep(make_spec("domain", tilts=[5.0], attacks=[0.0], speed=6.0, duration=0.3), None)
+    assert cut["cut_off"] == [[1]] and cut["bounces"] == [[0]] and cut["first_contact_time"] == [[None]]
+    bounced = run_sweep(make_spec("domain", tilts=[20.0], attacks=[20.0], speed=3.5, duration=0.3), None)
+    assert bounced["bounces"][0][0] > 0 and 0.0 < bounced["first_contact_time"][0][0] < 0.05
+
+
 def test_folder_of_another_sweep_is_refused(tmp_path):
     run_sweep(make_spec("domain", tilts=[20.0], attacks=[20.0], speed=3.5), tmp_path)
     with pytest.raises(ParameterError, match="different sweep"):
