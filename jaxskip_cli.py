@@ -22,8 +22,27 @@ def _interrupted(signum, frame) -> None:
     os._exit(EXIT_INTERRUPTED)  # (not an exception: one raised inside an import can be swallowed, as above)
 
 
+def _open_closed_streams() -> None:
+    """Give a standard stream the caller closed (``2>&-``, a daemon's) the null device, descriptor and all.
+
+    Python sets ``sys.stderr`` to None then: the command crashed in a raw traceback, or, with ``print(...,
+    file=None)`` writing to stdout, put its warnings before ``--json``'s object. And a file opened later (a
+    picture) would take the free descriptor 2, where the compiler's own messages go."""
+    for fd, name, mode in ((0, "stdin", "r"), (1, "stdout", "w"), (2, "stderr", "w")):
+        try:
+            os.fstat(fd)
+        except OSError:
+            got = os.open(os.devnull, os.O_RDWR)   # (the lowest free descriptor: this one, unless a lower one is)
+            if got != fd:
+                os.dup2(got, fd)
+                os.close(got)
+        if getattr(sys, name) is None:
+            setattr(sys, name, open(fd, mode, closefd=False))
+
+
 def main() -> int:
     """Install the Ctrl-C handler, then run :func:`jaxskip.cli.main` (argument parsing and the commands)."""
+    _open_closed_streams()
     if threading.current_thread() is threading.main_thread():
         signal.signal(signal.SIGINT, _interrupted)
     from jaxskip.cli import main as run

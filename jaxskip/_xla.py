@@ -72,6 +72,10 @@ DEVICES_ENV = "JAXSKIP_CPU_DEVICES"
 JAX's single CPU device alone)."""
 
 
+#: Most CPU devices ``JAXSKIP_CPU_DEVICES`` may ask for.
+MAX_CPU_DEVICES = 1024
+
+
 def usable_cores() -> int:
     """CPU cores this process may run on (its affinity mask where the OS has one)."""
     try:
@@ -110,11 +114,12 @@ def apply_cpu_devices() -> str:
     if wanted:
         try:
             n = int(wanted)
-            if n < 1:
+            # (10^20 reached JAX and ended every command in a raw RuntimeError from the CPU client; a review)
+            if not 1 <= n <= MAX_CPU_DEVICES:
                 raise ValueError
         except ValueError:
-            warnings.warn(f"{DEVICES_ENV} must be a positive integer (1: one CPU device, JAX's default), "
-                          f"got {wanted!r}; ignored", stacklevel=3)
+            warnings.warn(f"{DEVICES_ENV} must be an integer in [1, {MAX_CPU_DEVICES}] (1: one CPU device, JAX's "
+                          f"default), got {wanted[:40]!r}; ignored", stacklevel=3)
             n = usable_cores()
         else:
             if n == 1:

@@ -262,14 +262,15 @@ def rigid_stone(mesh: TriMesh, *, density: float | None = None, mass: float | No
         check_range("density", density, lo, hi, unit="kg/m^3 (cork to osmium)")
     if mass is not None:
         mass = check_real("mass", mass, valid="> 0 kg")   # (a mass <= 0 gets this stone's range, below)
-    validate_mesh(mesh.vertices, mesh.faces, name=mesh.name)  # closed, outward, no degenerate triangle
     # The bounding radius about the centre of mass lies between half the vertices' largest span and the span:
     # a stone a thousandfold out of range is named as such here, before its mass or inertia can overflow (an
-    # OBJ scaled by 1e100 was refused as "a density or mass beyond any physical range?"); nearer the range,
-    # by its exact radius below.
-    span = float(np.max(np.ptp(np.asarray(mesh.vertices, dtype=np.float64), axis=0)))
-    if not (1e-3 * RADIUS_RANGE[0] <= span and 0.5 * span <= 1e3 * RADIUS_RANGE[1]):
+    # OBJ scaled by 1e100 was refused as "a density or mass beyond any physical range?"), and before the mesh's
+    # checks (which name a mesh over 1 km across by its span alone); nearer the range, by its exact radius below.
+    vertices = np.asarray(mesh.vertices, dtype=np.float64)
+    span = float(np.max(np.ptp(vertices, axis=0))) if np.all(np.isfinite(vertices)) else None
+    if span is not None and not (1e-3 * RADIUS_RANGE[0] <= span and 0.5 * span <= 1e3 * RADIUS_RANGE[1]):
         raise ParameterError(_size_message(mesh.name, f"about {0.5 * span:.3g} to {span:.3g}"))
+    validate_mesh(mesh.vertices, mesh.faces, name=mesh.name)  # closed, outward, no degenerate triangle
     # the exact size before the mass: an out-of-range stone was first sent to a mass range that then failed on
     # its size (a 0.05 mm mesh: "--mass must be in [4.56e-12, 1.13e-09] kg", then "its size ... must be in [1 mm,
     # 1 m]"; a review). The bounding radius about the centre of mass, which no density moves.

@@ -541,6 +541,9 @@ def _warning_printer(args):
 
 def main(argv=None) -> int:
     """Entry point of the ``jaxskip`` command; returns the exit status."""
+    for name in ("stdout", "stderr"):   # closed by the caller (``python -m jaxskip 2>&-``): Python's None there
+        if getattr(sys, name) is None:  # crashed the command, or sent its warnings to stdout (jaxskip_cli.py)
+            setattr(sys, name, open(os.devnull, "w"))
     parser = build_parser(argv)
     args, extra = parser.parse_known_args(argv)
     if extra:  # said by the command's parser, whose --help lists the flags it takes

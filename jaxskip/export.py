@@ -337,7 +337,8 @@ def write_trajectory(result, path, fps: float = 60.0, mesh: TriMesh | None = Non
     f = frames(result, fps)
     turn = spin_per_frame(result, fps)
     if turn > math.pi:   # (the default throw turned up to 296 deg between frames at 60 frames/s, in silence)
-        warnings.warn(f"the stone turns up to {math.degrees(turn):.0f} deg between frames at {fps:g} frames/s: a tool "
+        said = f"{math.degrees(turn):.0f}" if turn < 1e6 else f"{math.degrees(turn):.3g}"   # (not 300 digits)
+        warnings.warn(f"the stone turns up to {said} deg between frames at {fps:g} frames/s: a tool "
                       "that interpolates between keyframes turns it the short way, backwards; at least "
                       f"{math.ceil(fps * turn / (math.pi / 2)):d} frames/s keep it to a quarter turn a frame",
                       UserWarning, stacklevel=2)

@@ -48,6 +48,10 @@ MAX_OBJ_VERTICES = 1_000_000
 MAX_OBJ_TRIANGLES = 2_000_000
 MAX_OBJ_LINE = 1 << 20
 
+#: Largest extent [m] of a mesh along any axis: a thousand times a stone's largest size (1 m in radius). A
+#: larger mesh is in other units, and its arithmetic could overflow.
+MAX_MESH_SPAN = 1000.0
+
 #: A triangle counts as degenerate when its area is at most this fraction of
 #: the squared bounding-box diagonal of the mesh.
 DEGENERATE_AREA_FRACTION = 1e-12
@@ -336,7 +340,14 @@ def validate_mesh(vertices, faces, *, name: str = "mesh", _numbering: _Numbering
         raise MeshError(f"{name}: {unused.size} of its {n_v} vertices (the first: {at.vert(unused[0])}) belong to "
                         "no triangle; remove them (they would count towards the stone's size)")
 
-    diag2 = float(np.sum(np.ptp(v, axis=0) ** 2))
+    # (a vertex at 1e30 m was called a degenerate triangle, "area 2.5e+28 m^2", and at 1e200 NumPy's overflow
+    # warnings came first; a review) A stone is at most 1 m in radius: a mesh 1 km across is in other units.
+    span = np.ptp(v, axis=0)
+    if not np.all(span <= MAX_MESH_SPAN):
+        raise MeshError(f"{name}: spans {float(np.max(span)):.3g} m along an axis, more than {MAX_MESH_SPAN:g} m: "
+                        "coordinates are in metres and a stone is at most 1 m in radius (convert a mesh in other "
+                        "units)")
+    diag2 = float(np.sum(span ** 2))
     areas = 0.5 * np.linalg.norm(_triangle_cross(v, f), axis=1)
     bad = np.flatnonzero(areas <= DEGENERATE_AREA_FRACTION * diag2)
     if bad.size:
@@ -778,7 +789,10 @@ def write_obj(path: str | os.PathLike, mesh: TriMesh) -> None:
         Mesh to write; faces become 1-based indices.
     """
     if not isinstance(path, (str, os.PathLike)):   # (a bare TypeError from Path(123) before)
-        raise MeshError(f"path must be a file name (str or os.PathLike), got {path!r}")
+        if isinstance(path, TriMesh):   # (its whole repr, ~250 lines of arrays, was the message; a review)
+            raise MeshError("path must be a file name (str or os.PathLike), got a TriMesh: the arguments are "
+                            "write_obj(path, mesh)")
+        raise MeshError(f"path must be a file name (str or os.PathLike), got {path!r:.80}")
     text = obj_text(mesh)
     try:
         check_file_path("path", path)   # (a missing folder was a raw FileNotFoundError)

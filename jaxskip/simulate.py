@@ -526,7 +526,8 @@ def _tilt_from_matrix(R):
 def check_duration(duration, dt: float) -> float:
     """``duration`` [s] as a float: finite and at least one step of ``dt`` [s] (a checked float), else a
     :class:`ParameterError`. :class:`SimConfig` and the CLI (which derives ``max_steps`` from it first) share it."""
-    duration = check_real("duration", duration, valid="> 0 s")
+    # (nan was told "> 0 s", -1 ">= dt": one rule, said alike; a review)
+    duration = check_real("duration", duration, valid=f">= dt, the time step ({dt:g} s; --dt in the CLI)")
     if duration < dt:
         raise ParameterError(f"duration must be >= dt, the time step ({dt:g} s; --dt in the CLI), got {duration:g} s "
                              "(the first step would already overrun it)")

@@ -713,3 +713,20 @@ def test_bounce_clearance_flag_sets_what_counts_as_a_bounce(capsys):
     assert high["bounces"] < default["bounces"] and high["distance"] == default["distance"]
     assert main(["throw", "--bounce-clearance", "0.005"]) == 0
     assert "dt 0.00025 s, bounce clearance 0.005 m\n" in capsys.readouterr().out   # (the default is not said)
+
+
+@pytest.mark.parametrize("entry", [["-m", "jaxskip"], ["-c", "import jaxskip_cli; raise SystemExit(jaxskip_cli.main())"]])
+def test_a_closed_stream_is_a_sink_not_a_crash(entry):
+    """(stop 47, a review) With stderr closed (``2>&-``, a daemon) Python's sys.stderr is None: the command ended in
+    a raw AttributeError (status 1), and with --no-progress its warnings, printed to file=None, went to stdout
+    before --json's object, which no longer parsed. With stdout closed it crashed likewise. Either entry point
+    (``python -m jaxskip``, the installed ``jaxskip``) now writes what it would have to the null device."""
+    env = {**os.environ, "PYTHONPATH": ROOT + os.pathsep + os.environ.get("PYTHONPATH", "")}
+    argv = [sys.executable, *entry, "throw", "--json", "--dt", "0.005", "--max-steps", "50"]
+    closed = subprocess.run(argv, stdout=subprocess.PIPE, text=True, cwd=ROOT, env=env, timeout=300,
+                            preexec_fn=lambda: os.close(2))
+    assert closed.returncode == 0
+    assert json.loads(closed.stdout)["parameters"]["dt"] == 0.005   # (the coarse-dt warning went nowhere)
+    closed = subprocess.run(argv, stderr=subprocess.PIPE, text=True, cwd=ROOT, env=env, timeout=300,
+                            preexec_fn=lambda: os.close(1))
+    assert closed.returncode == 0 and "Traceback" not in closed.stderr and "--dt = 5 ms" in closed.stderr

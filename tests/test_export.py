@@ -388,3 +388,11 @@ def test_the_files_say_when_the_motion_ends_and_how_quaternions_turn(default_thr
     assert "quaternions (w, x, y, z) rotate the body frame to the world frame, z up" in about
     first = (tmp_path / "t.stone.obj").read_text().splitlines()[0]
     assert " ".join(first.split()).startswith(" ".join(("# " + about + ":").split()))   # (+ the mesh's size)
+
+
+def test_the_spin_warning_at_a_tiny_frame_rate_is_a_readable_number(default_throw, tmp_path):
+    """(stop 47, a review) At --fps 1e-300 the turn between frames was printed with every digit, ~300 of them."""
+    with pytest.warns(UserWarning, match=r"the stone turns up to \d\.\d\de\+\d+ deg between frames at 1e-300 "
+                                         r"frames/s") as caught:
+        write_trajectory(default_throw, tmp_path / "slow.csv", fps=1e-300)
+    assert max(len(str(w.message)) for w in caught) < 300

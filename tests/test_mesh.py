@@ -2,6 +2,7 @@
 
 import math
 import os
+import re
 
 import numpy as np
 import pytest
@@ -591,3 +592,25 @@ def test_a_stone_out_of_size_is_named_by_its_size_before_its_mass():
     for kw in ({"mass": 0.1}, {"mass": 1e-10}, {"density": 2650.0}):
         with pytest.raises(ParameterError, match=r"size \(bounding radius\) must be in \[1 mm, 1 m\]"):
             rigid_stone(tiny, **kw)
+
+
+@pytest.mark.parametrize("far", [1e10, 1e30, 1e200])
+def test_a_mesh_in_other_units_is_named_by_its_span_not_as_degenerate(far, recwarn):
+    """(stop 47, a review) A tetrahedron with one vertex at 1e30 m was refused as "the triangle of line 5 is
+    degenerate (area 2.5e+28 m^2)", and at 1e200 NumPy's overflow warnings came first: a mesh spanning over
+    1 km (MAX_MESH_SPAN) is named by its span, silently."""
+    v = np.array([[0.0, 0.0, 0.0], [0.01, 0.0, 0.0], [0.0, 0.01, 0.0], [0.0, 0.0, 0.01]])
+    f = np.array([[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]])
+    validate_mesh(v, f)
+    v[1, 0] = far
+    with pytest.raises(MeshError, match=re.escape(f"spans {far:.3g} m along an axis, more than 1000 m: coordinates are "
+                                                  "in metres")):
+        validate_mesh(v, f)
+    assert not [w for w in recwarn if issubclass(w.category, RuntimeWarning)]
+
+
+def test_write_obj_with_its_arguments_swapped_says_so(tmp_path):
+    """(stop 47, a review) write_obj(mesh, path) put the mesh's whole repr, ~250 lines of arrays, in its message."""
+    with pytest.raises(MeshError, match=r"^path must be a file name \(str or os.PathLike\), got a TriMesh: the arguments "
+                                        r"are write_obj\(path, mesh\)$"):
+        write_obj(disk(0.04, 0.01), str(tmp_path / "x.obj"))

@@ -330,6 +330,7 @@ def test_audit_fixes_session_17(tmp_path):
 
     from jaxskip import MeshError, SimConfig, paper_stone, resolve_stone, rigid_stone, simulate_batch, write_obj
     from jaxskip.export import write_trajectory
+    from jaxskip.mesh import validate_mesh
 
     # a stone problem is a ParameterError too (one except clause catches every refused input)
     assert issubclass(MeshError, ParameterError)
@@ -377,9 +378,13 @@ def test_audit_fixes_session_17(tmp_path):
         with pytest.raises(ParameterError, match=r"its size \(bounding radius\) must be in \[1 mm, 1 m\], got about "
                                                  r"4\.92e\+98 to 9\.85e\+98 m"):
             rigid_stone(huge, **given)
-    with pytest.raises(MeshError, match=r"its volume overflows the floating-point range \(vertex coordinates up to "
-                                        r"4\.99e\+148\); vertices are read in metres"):
+    # (since stop 47 the size is checked before the mesh, whose volume overflowed here: "its volume overflows the
+    # floating-point range (vertex coordinates up to 4.99e+148)"; the mesh check alone names the span)
+    with pytest.raises(ParameterError, match=r"its size \(bounding radius\) must be in \[1 mm, 1 m\], got about "
+                                             r"4\.92e\+148 to 9\.85e\+148 m"):
         rigid_stone(dataclasses.replace(mesh, vertices=np.asarray(mesh.vertices) * 1e150), density=2650.0)
+    with pytest.raises(MeshError, match=r"spans 9\.85e\+148 m along an axis, more than 1000 m"):
+        validate_mesh(np.asarray(mesh.vertices) * 1e150, mesh.faces)
     # help() shows every field's units (attribute docstrings are appended to the class docstring)
     text = pydoc.render_doc(SimConfig, renderer=pydoc.plaintext)
     assert "Time step in and near the water [s], in (0, 0.01]" in text
@@ -528,7 +533,7 @@ def _session_23_bad_inputs():
         (lambda: Throw.from_degrees(speed=huge), "speed must be finite and in .* beyond the floating-point range"),
         (lambda: Throw.from_degrees(tilt=[huge, 1.0]), "tilt must be finite and in .* beyond the floating-point range"),
         (lambda: simulate(mass=huge), "mass must be finite and > 0 kg, got a number beyond"),
-        (lambda: SimConfig(duration=huge), "duration must be finite and > 0 s, got a number beyond"),
+        (lambda: SimConfig(duration=huge), "duration must be finite and >= dt, the time step .*got a number beyond"),
         (lambda: steps_for(huge, 1e-3), "duration must be finite"),
         (lambda: water_params("bocquet", c_lift=huge), "c_lift must be finite and in"),
         (lambda: rigid_stone(paper_stone(), mass=huge), "mass must be finite and > 0 kg"),
@@ -1104,3 +1109,10 @@ def test_bad_input_is_refused_before_anything_is_traced():
         assert any("jaxpr_trace" in e for e in events), events
     finally:
         jax.monitoring.unregister_event_duration_listener(listen)
+
+
+def test_duration_states_one_rule_for_nan_and_for_too_short():
+    """(stop 47, a review) duration nan was told "> 0 s" and -1 ">= dt, the time step": one rule, said alike."""
+    for bad in (math.nan, -1.0, 0.0):
+        with pytest.raises(ParameterError, match=r"duration must be .*>= dt, the time step \(0.00025 s; --dt in the CLI\)"):
+            SimConfig(duration=bad)

@@ -73,6 +73,10 @@ def test_one_cpu_device_per_core():
     else:
         assert r["devices"] == "applied" and r["n_devices"] == r["cores"]
     assert _probe({"JAXSKIP_CPU_DEVICES": "3"})["n_devices"] == 3
+    # (stop 47, a review) 10^20 reached JAX's CPU client: a raw RuntimeError in every command. Out of range is
+    # warned of and ignored, as a non-number is.
+    big = _probe({"JAXSKIP_CPU_DEVICES": "99999999999999999999"})
+    assert big["n_devices"] == r["n_devices"]
 
 
 def test_cpu_device_opt_out_and_user_choice():
