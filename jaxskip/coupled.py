@@ -41,8 +41,9 @@ substeps (as is the up to half a fine step by which a water step's due time over
 ``water_dt``), so the water keeps the stone's time; only after a flight jump longer than
 those substeps together does the water advance by less than the jump (the ripples
 left behind lag; they are out of the stone's way). The window is re-centred at each
-water step. A flight jump aims above the window's highest surface (its highest column less the depth, passed
-to ``make_step(ceiling=...)``): it ends before the stone's lowest vertex can come down to any crest of the water
+water step. A flight jump aims above the highest water it can reach (:func:`reach_ceiling`: the highest column
+under the box the stone's footprint sweeps in ``max_flight_step``, less the depth, passed to
+``make_step(ceiling=...)``): it ends before the stone's lowest vertex can come down to any crest of the water
 as it stands at the jump's start, so the fine steps resolve the touches of the water (the water moves only after
 the jump, by at most ``substeps * grid.time_step``: a crest can rise meanwhile, measured by up to 0.37 mm after a
 jump, with no jump ending inside it in 4 throws checked step by step). Until 2026-12-07 (stop 46)
@@ -54,10 +55,13 @@ apart; free, 17 of 24 either way (the differences at the level of halving dt). F
 float64, 64² window: the default throw 13 / 13 at dt = 0.25 ms and 15 / 16 at 0.125 ms (14 jumps before);
 6 m/s, 15°, 10°, 10 rev/s: 7 / 7 and 7 / 6; 10 m/s, 25°, 3°, 30 rev/s: 38 / 38 and 39 / 37 (41 jumps before).
 The jumps are shorter for it: the coupled default throw at 128² runs 3.2–3.4× real time against 4.6× before (the
-water also steps more in flight, keeping the stone's time). The bound is the whole window's: its highest column
-often lies far behind the stone (the default throw: up to 0.10 m above rest, ~27 columns back; 296 of its 385 dry
-steps were held under that ceiling, 191 of them above the highest water within 10 cm), so a ceiling over the
-columns a jump can reach, with the jump capped to stay among them, would be cheaper (not done).
+water also steps more in flight, keeping the stone's time). Until stop 47 the bound was the whole window's highest
+column, often far behind the stone (the default throw: up to 0.10 m above rest, ~27 columns back; 296 of its 385
+dry steps were held under it). The reachable columns' bound (stop 47) takes the default throw in 1216 steps
+instead of 1496 at 128² (dry steps 521 → 239; 1352 → 1216 at 64²), the same 13 bounces; held-tilt jumps agree
+with fixed steps on 22 of the 24 throws above (21 with the window's bound in the same run), free ones on 20 of 24
+either way; but the speed barely moves (3.4–3.6× against 3.1–3.3× real time at 128², alternating runs): the water
+advances every 1 ms whatever the stone's steps, and they are the cost.
 
 The default window (:func:`default_window`): 64 × 64 columns of 1 cm
 (0.64 m, ~6 stone diameters), effective depth 2 cm — so that
@@ -217,6 +221,35 @@ def advance_field(grid: WaterGrid, water_step, f: "Field", position, spread: int
     return Field(field, offset, jnp.zeros_like(f.impulse), zero)
 
 
+def reach_ceiling(grid: WaterGrid, height, origin, position, velocity, radius, duration: float):
+    """The highest water [m] above rest that a stone in flight can meet within ``duration`` [s]: the highest of the
+    columns :func:`jaxskip.water.height_at` reads anywhere within ``radius`` [m] of the centre's path.
+
+    In flight only gravity acts, so over ``t`` in [0, ``duration``] the centre of mass moves horizontally along
+    ``position[:2] + velocity[:2] t`` [m, m/s], and every vertex stays within ``radius`` (the stone's bounding
+    radius, :attr:`jaxskip.RigidStone.radius`) of it: its points lie in the box of that segment widened by
+    ``radius``. A surface read there is bilinear between the columns next to the point (clamped into the
+    window first, each coordinate apart), which lie within one column ``spacing`` of the box clamped to the
+    window: the highest of those columns bounds the surface under the stone for the whole jump (a flight jump is
+    never longer than ``SimConfig.max_flight_step``, which is ``duration`` here). ``height``: the window's
+    column heights ``(nx, ny)`` [m]; ``origin``: the centre ``(x, y)`` [m] of its column (0, 0). Returns a scalar.
+
+    Until stop 47 the bound was the whole window's highest column, often the crest of the wake far behind the
+    stone (the default throw: ~27 columns back), which held 296 of its 385 dry steps short.
+    """
+    s = grid.spacing
+    nx, ny = grid.shape
+    p, v = position[:2], velocity[:2]
+    lo = jnp.minimum(p, p + v * duration) - radius
+    hi = jnp.maximum(p, p + v * duration) + radius
+    top = origin + jnp.array([nx - 1.0, ny - 1.0], dtype=position.dtype) * s     # the last column's centre
+    lo, hi = jnp.clip(lo, origin, top) - s, jnp.clip(hi, origin, top) + s
+    x = origin[0] + jnp.arange(nx, dtype=position.dtype) * s
+    y = origin[1] + jnp.arange(ny, dtype=position.dtype) * s
+    near = ((x >= lo[0]) & (x <= hi[0]))[:, None] & ((y >= lo[1]) & (y <= hi[1]))[None, :]
+    return jnp.max(jnp.where(near, height, -jnp.inf)) - grid.depth
+
+
 def coupled_substeps(config: SimConfig, grid: WaterGrid, water_dt: float | None = None) -> int:
     """Water steps per advance of the coupled water (:func:`make_coupled_step`): enough equal steps, each
     at most ``grid.time_step``, to cover the time an advance can find pending in contact,
@@ -321,9 +354,10 @@ def make_coupled_step(config: SimConfig, grid: WaterGrid, water_dt: float | None
         origin = f.offset.astype(state.position.dtype) * grid.spacing
         surface = lambda x, y: height_at(grid, f.water.height, x, y, origin=origin)  # noqa: E731
         # The step also returns each triangle's force at the start-of-step state: the stone's push. A flight jump
-        # aims above the window's highest column (bilinear heights never exceed their columns'), worked out here
+        # aims above the highest column it can reach (bilinear heights never exceed their columns'), worked out here
         # from the water itself, so that no stored bound can fall out of step with it (see "Time steps" above).
-        ceiling = jnp.max(f.water.height) - grid.depth
+        ceiling = reach_ceiling(grid, f.water.height, origin, state.position, state.velocity, stone.radius,
+                                config.max_flight_step)
         (state1, tr1), rec, (forces, centroid) = make_step(config, surface, push=True, ceiling=ceiling)(
             (state, tr), stone, water)
         push = forces[:, 2] if two_way else 0.0 * forces[:, 2]
@@ -456,4 +490,4 @@ def rollout_coupled(config: SimConfig, grid: WaterGrid, throw: Throw, stone: Rig
     return state, tr.finish(), (recs if config.record else None), field
 
 
-__all__ = ["Field", "advance_field", "check_shared_constants", "check_window_fits", "coupled_interval", "coupled_substeps", "default_water_dt", "default_window", "initial_field", "make_coupled_step", "recentre", "rollout_coupled"]
+__all__ = ["Field", "advance_field", "check_shared_constants", "check_window_fits", "coupled_interval", "coupled_substeps", "default_water_dt", "default_window", "initial_field", "make_coupled_step", "reach_ceiling", "recentre", "rollout_coupled"]

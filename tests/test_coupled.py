@@ -518,3 +518,40 @@ def test_a_jump_stops_above_water_the_user_raised_in_the_field(paper, water):
     surface = lambda x, y: height_at(grid, f.water.height, x, y, origin=f.offset * grid.spacing)  # noqa: E731
     lowest = float(jnp.min(vertex_heights(paper, s1.position, to_matrix(s1.orientation), surface)))
     assert float(s1.time - state.time) > config.dt and lowest > -1e-9, (float(s1.time), lowest)
+
+
+def test_the_reach_ceiling_bounds_every_surface_point_a_jump_can_meet():
+    """(stop 47) A flight jump aims above the highest water it can reach (``reach_ceiling``), not the whole
+    window's: a bound of every bilinear surface height within the stone's radius of the centre's straight path over
+    ``max_flight_step``, windows crossed at their edges included (points outside read the edge). Checked on random
+    water, positions and velocities against dense samples of that region; a crest behind the stone is left out,
+    one ahead within reach is not."""
+    from jaxskip.coupled import reach_ceiling
+    from jaxskip.water import height_at
+
+    grid = WaterGrid(shape=(24, 20), spacing=0.01, depth=0.02)
+    rng = np.random.default_rng(0)
+    origin = jnp.array([-0.115, -0.095])
+    radius, duration = 0.03, 0.02
+    tight = 0
+    for _ in range(40):
+        h = 0.02 + 1e-3 * rng.standard_normal(grid.shape)
+        p = jnp.asarray(np.append(rng.uniform(-0.2, 0.2, 2), 0.01))        # sometimes outside the window
+        v = jnp.asarray(np.append(rng.uniform(-8.0, 8.0, 2), -1.0))
+        c = float(reach_ceiling(grid, jnp.asarray(h), origin, p, v, radius, duration))
+        t = rng.uniform(0.0, duration, 4000)
+        r, a = radius * np.sqrt(rng.uniform(0, 1, 4000)), rng.uniform(0, 2 * np.pi, 4000)
+        x = float(p[0]) + float(v[0]) * t + r * np.cos(a)
+        y = float(p[1]) + float(v[1]) * t + r * np.sin(a)
+        seen = float(jnp.max(height_at(grid, jnp.asarray(h), jnp.asarray(x), jnp.asarray(y), origin=origin)))
+        assert seen <= c + 1e-15
+        tight += c < float(h.max()) - grid.depth - 1e-9    # below the window's highest column, the old bound
+    assert tight >= 20, tight
+    # a crest 10 cm behind a stone moving at +x is out of reach; 10 cm ahead it is not
+    h = np.full(grid.shape, 0.02)
+    p, v = jnp.array([0.0, 0.0, 0.01]), jnp.array([5.0, 0.0, -1.0])
+    behind, ahead = h.copy(), h.copy()
+    behind[1, 10] += 0.005                                                  # x = -0.105 m
+    ahead[21, 10] += 0.005                                                  # x = +0.095 m
+    assert float(reach_ceiling(grid, jnp.asarray(behind), origin, p, v, radius, duration)) == pytest.approx(0.0, abs=1e-15)
+    assert float(reach_ceiling(grid, jnp.asarray(ahead), origin, p, v, radius, duration)) == pytest.approx(0.005)
