@@ -10,3 +10,16 @@ def plural(n: int, word: str) -> str:
     ('1 bounce', '14 bounces')
     """
     return f"{n} {word}{'' if n == 1 else 's'}"
+
+
+def duration_words(seconds: float) -> str:
+    """A duration [s] as a person reads it: ``42 s``, ``3.5 min``, ``2.1 h``.
+
+    >>> duration_words(42.4), duration_words(210.0), duration_words(7560.0)
+    ('42 s', '3.5 min', '2.1 h')
+    """
+    if seconds < 90.0:
+        return f"{seconds:.0f} s"
+    if seconds < 5400.0:
+        return f"{seconds / 60.0:.1f} min"
+    return f"{seconds / 3600.0:.1f} h"

@@ -55,6 +55,7 @@ import math
 import numbers
 import os
 import sys
+import time
 import warnings
 from collections.abc import Iterable
 from pathlib import Path
@@ -67,6 +68,7 @@ from jaxskip._checks import ParameterError, check_array, check_bool, check_int, 
 from jaxskip._docs import document_fields
 from jaxskip._files import check_picture_path, writing
 from jaxskip._progress import ProgressLine
+from jaxskip._text import duration_words
 from jaxskip.forces import DEFAULT_COEFFICIENTS
 from jaxskip.settings import SIM_DEFAULTS, describe, simulation
 from jaxskip.simulate import AccuracyWarning, SimConfig, warn_if_inert
@@ -561,6 +563,8 @@ def run_sweep(spec: SweepSpec, out_dir=None, *, shard_index: int = 0, num_shards
         config, water, rigid = sim
         warn_stability(config, rigid, water, spec.speed_range[1] if spec.kind == "umin" else spec.speed,
                        stacklevel=caller_level() + 1)
+    todo = sum(1 for j in range(len(chunks)) if j not in results and j % num_shards == shard_index)
+    started = time.monotonic()
     with silenced_batches():
         for j, (index, path) in enumerate(zip(chunks, paths)):
             if j in results or j % num_shards != shard_index:
@@ -569,7 +573,11 @@ def run_sweep(spec: SweepSpec, out_dir=None, *, shard_index: int = 0, num_shards
                 raise KeyboardInterrupt(f"stopped after {computed} chunks (test)")
             if progress:
                 what = ("tilt" if spec.kind == "umin" else "grid point") + ("" if len(index) == 1 else "s")
-                print(f"  chunk {j + 1}/{len(chunks)} ({len(index)} {what})", file=sys.stderr, flush=True)
+                # (how long so far and how long to go: a 60-chunk sweep's log gave neither; a review)
+                spent = time.monotonic() - started
+                pace = (f"; {computed} of {todo} done in {duration_words(spent)}, about "
+                        f"{duration_words(spent / computed * (todo - computed))} left" if computed else "")
+                print(f"  chunk {j + 1}/{len(chunks)} ({len(index)} {what}){pace}", file=sys.stderr, flush=True)
             work = _domain_chunk if spec.kind == "domain" else _umin_chunk
             data = {"chunk": j, "items": index.tolist(), "sweep": sweep_id(spec), **work(spec, sim, index, progress)}
             if path is not None:

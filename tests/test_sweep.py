@@ -999,3 +999,19 @@ def test_a_folder_holding_results_but_no_sweep_is_refused(tmp_path):
     with pytest.raises(ParameterError, match=r"holds result.json but no spec.json: not a sweep's folder"):
         run_sweep(make_spec("domain", tilts=[20.0], attacks=[20.0], duration=0.3), tmp_path / "other")
     assert (tmp_path / "other" / "result.json").read_text() == '{"mine": 1}'
+
+
+def test_a_sweeps_progress_says_what_is_kept_and_how_long_is_left(tmp_path, capsys):
+    """(stop 47, a review) A sweep's progress named each chunk but neither the time spent nor the time left (a
+    60-chunk sweep's log); it also counts the chunks it keeps from an earlier run."""
+    import re
+
+    spec = make_spec("umin", tilts=[10.0, 20.0, 30.0], iterations=2, chunk_size=1, max_steps=2000)
+    with pytest.raises(KeyboardInterrupt):
+        run_sweep(spec, tmp_path / "s", _stop_after=1)
+    capsys.readouterr()
+    run_sweep(spec, tmp_path / "s", progress=True)
+    err = capsys.readouterr().err
+    assert "  1 of 3 chunks already in" in err and "(kept, not recomputed)" in err
+    assert "  chunk 2/3 (1 tilt)\n" in err                              # the first to compute: no pace yet
+    assert re.search(r"  chunk 3/3 \(1 tilt\); 1 of 2 done in \d+ s, about \d+ s left\n", err), err
