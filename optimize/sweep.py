@@ -1004,12 +1004,14 @@ def write_results(result: dict, out: Path) -> None:
                 rows.append([t, a, spec["speed"], spec["spin"], result["bounces"][i][k], "" if tc is None else tc,
                              result["diverged"][i][k], result["cut_off"][i][k]])
     else:
-        # bounces_at_low > 0: the bracket's low end bounces already, umin_m_s is only an upper bound
-        rows.append(["tilt_deg", "attack_deg", "spin_rev_s", "umin_m_s", "bounces_at_high", "bounces_at_low",
-                     "diverged", "cut_off", "monotone"])
+        # bounces_at_low > 0: the bracket's low end bounces already, umin_m_s is only an upper bound (no low end);
+        # else the true U_min lies in (umin_low_m_s, umin_m_s] (the file alone did not say: a review)
+        rows.append(["tilt_deg", "attack_deg", "spin_rev_s", "umin_low_m_s", "umin_m_s", "bounces_at_high",
+                     "bounces_at_low", "diverged", "cut_off", "monotone"])
         for i, t in enumerate(spec["tilts"]):
             u = result["umin"][i]
-            rows.append([t, spec["attacks"][0], spec["spin"], "" if u is None else u, result["bounces_at_high"][i],
+            low = "" if u is None or result["bounces_at_low"][i] else u - result["resolution"]
+            rows.append([t, spec["attacks"][0], spec["spin"], low, "" if u is None else u, result["bounces_at_high"][i],
                          result["bounces_at_low"][i], result["diverged"][i],
                          result["cut_off"][i], result["monotone"][i]])
     from io import StringIO

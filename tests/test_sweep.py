@@ -335,8 +335,11 @@ def test_no_parabola_through_speeds_that_are_only_bounds(tmp_path):
     assert r["best_tilt_fit"] is None and r["best_umin_fit"] is None and r["best_umin"] == 1.85
     write_results(r, tmp_path)
     rows = (tmp_path / "result.csv").read_text().splitlines()
-    assert rows[0].endswith(",umin_m_s,bounces_at_high,bounces_at_low,diverged,cut_off,monotone")
-    assert rows[2].endswith(",1.85,1,1,0,0,1")
+    assert rows[0].endswith(",umin_low_m_s,umin_m_s,bounces_at_high,bounces_at_low,diverged,cut_off,monotone")
+    assert rows[2].endswith(",,1.85,1,1,0,0,1")                       # a bound: no low end
+    # a bracketed U_min gives its bracket, (umin - resolution, umin] (stop 47: the file alone did not say)
+    low, high = map(float, rows[1].split(",")[3:5])
+    assert high == 2.30 and high - low == pytest.approx(r["resolution"], rel=1e-12)
     r = assemble(spec, [dict(chunk, bounces_at_low=[0, 0, 0, 0], umin=[2.30, 1.90, 1.88, 2.04])])
     assert 12.0 < r["best_tilt_fit"] < 18.0  # measured speeds: the parabola stands
 
