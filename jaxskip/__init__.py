@@ -8,7 +8,8 @@ is a pure JAX function, scanned over time, vmapped over throws and
 differentiable end to end.
 
 Units are SI throughout (m, s, kg, rad); degrees and rev/s appear only at the
-edges (:meth:`Throw.from_degrees`, the CLI).
+edges (:meth:`Throw.from_degrees`, the CLI, the ``optimize`` package's boxes, sweeps and search results, and
+results' ``to_dict()``, each saying so).
 
 Quick start
 -----------

@@ -59,8 +59,8 @@ class BatchResult:
     tracker: Tracker
     """Final trackers (contact logs ``t_start``/``t_end`` (N, K) [s], ...), leading axis N."""
     throws: Throw
-    """The throws as simulated, shape (N,): host NumPy arrays in JAX's float type (float32, or float64 under
-    ``jax_enable_x64``), whatever types they were given in."""
+    """The throws as simulated, shape (N,), in SI units (m/s, rad, rad/s, m): host NumPy arrays in JAX's float type
+    (float32, or float64 under ``jax_enable_x64``), whatever types they were given in."""
     config: SimConfig
     """The :class:`jaxskip.SimConfig` every throw ran with (checked; ``record`` ignored)."""
     stone_name: str

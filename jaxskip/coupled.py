@@ -167,6 +167,9 @@ def _check_reach(grid: WaterGrid, position) -> None:
 def recentre(grid: WaterGrid, water: WaterState, offset, position):
     """Shift the window so the stone at ``position`` (3,) [m] sits at its centre.
 
+    ``grid``: the window's :class:`jaxskip.WaterGrid`; ``water``: its :class:`jaxskip.WaterState` (column heights
+    and pipe flows on that grid).
+
     ``offset`` (2,) int: world index of the window's column (0, 0) (column
     (i, j) is centred at ``(offset + (i, j)) * spacing``). Returns the shifted
     :class:`WaterState` and the new offset.
@@ -193,6 +196,9 @@ def recentre(grid: WaterGrid, water: WaterState, offset, position):
 def advance_field(grid: WaterGrid, water_step, f: "Field", position, spread: int, dt_max: float,
                   substeps: int = 1) -> "Field":
     """Water steps of the coupled window under the stone's pending push, then re-centring.
+
+    ``grid``: the window's :class:`jaxskip.WaterGrid`; ``water_step``: its step, ``make_water_step(grid)`` (a
+    pure ``(state, pressure (nx, ny) [Pa], dt [s]) -> state``, :func:`jaxskip.water.make_water_step`).
 
     ``f.impulse`` [Pa s] was deposited in the window as it stands (``f.offset``), so the water
     steps there, under the averaged pressure ``impulse / pending`` spread by ``spread`` filter
@@ -231,14 +237,19 @@ def reach_ceiling(grid: WaterGrid, height, origin, position, velocity, radius, d
     ``radius``. A surface read there is bilinear between the columns next to the point (clamped into the
     window first, each coordinate apart), which lie within one column ``spacing`` of the box clamped to the
     window: the highest of those columns bounds the surface under the stone for the whole jump (a flight jump is
-    never longer than ``SimConfig.max_flight_step``, which is ``duration`` here). ``height``: the window's
-    column heights ``(nx, ny)`` [m]; ``origin``: the centre ``(x, y)`` [m] of its column (0, 0). Returns a scalar.
+    never longer than ``SimConfig.max_flight_step``, which is ``duration`` here, a number >= 0). ``height``: the
+    window's column heights ``(nx, ny)`` [m]; ``origin``: the centre ``(x, y)`` [m] of its column (0, 0), two
+    numbers; ``position``, ``velocity``: the stone's (3,) [m], [m/s]; ``radius`` [m] > 0 (a leaf of the stone,
+    traced inside the step: not checked). Returns a scalar [m].
 
     Until stop 47 the bound was the whole window's highest column, often the crest of the wake far behind the
     stone (the default throw: ~27 columns back), which held 296 of its 385 dry steps short.
     """
     s = grid.spacing
     nx, ny = grid.shape
+    duration = check_range("duration", duration, 0.0, math.inf, unit="s")
+    position, velocity = jnp.asarray(position), jnp.asarray(velocity)
+    origin = jnp.asarray(origin, dtype=position.dtype)   # (grid.origin is a tuple; a review)
     p, v = position[:2], velocity[:2]
     lo = jnp.minimum(p, p + v * duration) - radius
     hi = jnp.maximum(p, p + v * duration) + radius

@@ -308,7 +308,7 @@ def write_trajectory(result, path, fps: float = 60.0, mesh: TriMesh | None = Non
     >>> import os, tempfile
     >>> from jaxskip import simulate
     >>> with tempfile.TemporaryDirectory() as folder:
-    ...     obj = write_trajectory(simulate(), os.path.join(folder, "throw.csv"), fps=30.0)
+    ...     obj = write_trajectory(simulate(), os.path.join(folder, "throw.csv"), fps=400.0)
     ...     with open(os.path.join(folder, "throw.csv")) as fh:
     ...         header = fh.readline().strip()
     >>> os.path.basename(obj), header == ",".join(COLUMNS)
@@ -399,10 +399,13 @@ def write_trajectory(result, path, fps: float = 60.0, mesh: TriMesh | None = Non
 
 
 def spin_per_frame(result, fps: float) -> float:
-    """The largest angle [rad] the stone of ``result`` turns between two frames at ``fps`` [1/s]: the largest
-    angular speed of its trajectory over ``fps`` (0 with the tilt held, where the stone does not turn). Above
-    π a tool that interpolates between keyframes turns it the wrong way (:func:`write_trajectory` warns)."""
+    """The largest angle [rad] the stone of ``result`` turns between two frames at ``fps`` [1/s], in (0, 10000]:
+    the largest angular speed of its trajectory over ``fps`` (0 with the tilt held, where the stone does not
+    turn). Above π a tool that interpolates between keyframes turns it the wrong way (:func:`write_trajectory`
+    warns)."""
     _check_result(result)
+    # (0 was a bare ZeroDivisionError, -30 a negative angle, "30" a TypeError; a review)
+    fps = check_range("fps", fps, 0.0, MAX_FPS, unit="frames/s", low_open=True)
     if result.config.attitude == "fixed":
         return 0.0
     w = np.asarray(result.trajectory["angular_velocity"], dtype=np.float64)

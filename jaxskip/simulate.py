@@ -338,7 +338,7 @@ class StoneState:
     velocity: jax.Array
     """(3,) centre-of-mass velocity [m/s]."""
     orientation: jax.Array
-    """(4,) unit quaternion (w, x, y, z), body to world."""
+    """(4,) unit quaternion (w, x, y, z), body to world [-]."""
     angular_velocity: jax.Array
     """(3,) angular velocity in the world frame [rad/s]."""
     time: jax.Array
@@ -561,7 +561,10 @@ def initial_state(throw: Throw, stone: RigidStone) -> StoneState:
     """State at release: lowest point ``throw.height`` above flat water, velocity and spin from the throw.
 
     ``throw``: one throw (shape ``()``; ``vmap`` for batches), already checked (:meth:`Throw.check`:
-    this pure function does not validate its values, so that it can be traced; its arguments' types are)."""
+    this pure function does not validate its values, so that it can be traced; its arguments' types are).
+    ``stone``: the :class:`RigidStone` thrown. Returns a :class:`StoneState`: ``position`` (3,) [m] (the centre
+    of mass, above x = y = 0), ``velocity`` (3,) [m/s], ``orientation`` (4,) [-] (unit quaternion w, x, y, z,
+    body to world), ``angular_velocity`` (3,) [rad/s] (world frame), ``time`` () [s] (0)."""
     _require("initial_state(throw, stone)", throw=(throw, Throw), stone=(stone, RigidStone))
     _one_throw("initial_state", throw)
     q = attitude(throw.tilt, throw.heading)
@@ -940,9 +943,9 @@ def make_step(config: SimConfig, surface=flat_surface, push: bool = False, max_s
     immersed centroids (F, 3) [m] (zeros once out of play), for the coupled water.
     ``ceiling``: None (default), or an upper bound [m] (a real scalar, may be traced) of ``surface`` wherever the
     stone can fly during a step: a flight jump then ends before the stone's lowest vertex comes down to it,
-    whatever the surface's shape below, and ``max_slope`` may be left out (0) (the coupled water passes its
-    window's highest column: a jump that took the ripples under the stone as the surface stepped over crests of
-    its own wake, a review found). Only its shape and type are checked when it is a JAX array.
+    whatever the surface's shape below, and ``max_slope`` may be left out (0) (the coupled water passes the
+    highest column the stone can reach, :func:`jaxskip.coupled.reach_ceiling`: a jump that took the ripples under
+    the stone as the surface stepped over crests of its own wake, a review found). Only its shape and type are checked when it is a JAX array.
     """
     _require("make_step(config, surface, push)", config=(config, SimConfig))
     if not callable(surface):

@@ -176,9 +176,9 @@ def paper_stone(radius: float = 0.05, thickness: float = 0.012) -> TriMesh:
     Parameters
     ----------
     radius : float
-        Rim radius [m], > 0.
+        Rim radius [m], in [1e-6, 100] (:data:`SIZE_RANGE`).
     thickness : float
-        Full thickness [m], > 0 (smaller than ``2 * radius`` for a flat stone).
+        Full thickness [m], in [1e-6, 100] (smaller than ``2 * radius`` for a flat stone).
 
     Returns
     -------
@@ -211,9 +211,9 @@ def disk(radius: float, thickness: float, segments: int = 32) -> TriMesh:
     Parameters
     ----------
     radius : float
-        Circumradius of the rim polygon [m], > 0.
+        Circumradius of the rim polygon [m], in [1e-6, 100].
     thickness : float
-        Height of the cylinder [m], > 0.
+        Height of the cylinder [m], in [1e-6, 100].
     segments : int
         Number of rim vertices, in [3, 32768] (4 n triangles, at most :data:`MAX_TRIANGLES`).
 
@@ -247,7 +247,7 @@ def ellipsoid_pebble(semi_axes=(0.03, 0.025, 0.008), n_lat: int = 8, n_lon: int 
     Parameters
     ----------
     semi_axes : sequence of 3 floats
-        Semi-axes ``(a, b, c)`` [m], each > 0; ``c`` the smallest for a flat stone.
+        Semi-axes ``(a, b, c)`` [m], each in [1e-6, 100]; ``c`` the smallest for a flat stone.
     n_lat : int
         Number of latitude bands, >= 2 (``n_lat - 1`` rings between the poles).
     n_lon : int
@@ -284,9 +284,9 @@ def irregular_pebble(seed: int = 0, radius: float = 0.04, thickness: float = 0.0
     seed : int
         Random seed, an integer >= 0; the same seed always gives the same pebble.
     radius : float
-        Unperturbed equatorial semi-axis [m], > 0.
+        Unperturbed equatorial semi-axis [m], in [1e-6, 100].
     thickness : float
-        Unperturbed full thickness [m], > 0.
+        Unperturbed full thickness [m], in [1e-6, 100].
     n_lat, n_lon : int
         Latitude bands (>= 2) and vertices per ring (>= 3), as in
         :func:`ellipsoid_pebble` (at most :data:`MAX_TRIANGLES` triangles).

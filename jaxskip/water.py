@@ -185,7 +185,7 @@ class WaterGrid:
     dt: float | None = None
     """Water time step [s], in (0, :func:`stable_dt`]; ``None``: ``cfl`` times :func:`stable_dt`."""
     cfl: float = 0.5
-    """Fraction of the stability bound used when ``dt`` is None, in (0, 1]."""
+    """Fraction of the stability bound used when ``dt`` is None [-], in (0, 1]."""
     clamp: str = "reference"
     """Non-negative volume clamp: ``"reference"``, ``"zero"`` or ``"smooth"``."""
     sharpness: float = 50.0
@@ -728,6 +728,7 @@ def make_water_step(grid: WaterGrid, clamp_blocks: tuple = ()):
 def placeless(grid: WaterGrid) -> WaterGrid:
     """``grid`` with its ``origin`` at (0, 0): the key of a compiled water (or coupled) program, whose step
     does not use where the grid is (the same grid object when it is there already)."""
+    grid = _check_grid(grid)   # (None met an AttributeError; a review)
     return grid if grid.origin == (0.0, 0.0) else dataclasses.replace(grid, origin=(0.0, 0.0))
 
 

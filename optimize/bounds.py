@@ -41,8 +41,9 @@ HUMAN_BOX = types.MappingProxyType({"speed": (3.0, 12.0), "tilt": (5.0, 45.0), "
 def check_interval(name: str, value, low: float, high: float, *, unit: str = "",
                    low_open: bool = False, holdable: bool = True) -> tuple[float, float]:
     """Validate ``value = (lo, hi)``: finite, ``lo < hi``, inside ``[low, high]`` (``(low, high]`` with
-    ``low_open``); returns floats. ``holdable``: an empty interval's message suggests a single value to
-    hold the parameter instead (a search's box; not a U_min sweep's bisection bracket)."""
+    ``low_open``); returns floats. ``name``: the parameter's name in the message; ``unit``: its unit there
+    (e.g. ``"m/s"``; the interval is in that unit). ``holdable``: an empty interval's message suggests a single
+    value to hold the parameter instead (a search's box; not a U_min sweep's bisection bracket)."""
     u = f" {unit}" if unit else ""
     valid = f"within {'(' if low_open else '['}{low:g}, {high:g}]{u}"
     pair = f"a pair (low, high) of numbers {valid}"

@@ -211,9 +211,9 @@ class SweepSpec:
     force_law: str
     """``"bocquet"`` or ``"seed"``."""
     c_lift: float | None
-    """Lift coefficient as given (None: the law's calibrated value, given or not)."""
+    """Lift coefficient [-] as given (None: the law's calibrated value, given or not)."""
     c_friction: float | None
-    """Friction coefficient as given (None: the law's calibrated value, given or not)."""
+    """Friction coefficient [-] as given (None: the law's calibrated value, given or not)."""
     velocity: str
     """``"body"``, ``"local"`` or ``"passive"`` (:class:`jaxskip.ForceModel`)."""
     integrator: str
@@ -1048,8 +1048,8 @@ def merge(folders, out_dir) -> dict:
 
     ``folders``: a non-empty list (any iterable) of sweep folders, each a ``str`` or ``os.PathLike``, or
     one such path alone: the ``out_dir`` of each shard's :func:`run_sweep`. Each must hold a ``spec.json``, all the same
-    sweep's; together they must hold every chunk (a chunk found in several folders is taken from the
-    first). ``out_dir``: the folder that receives the chunks, ``result.json`` and ``result.csv`` (it may
+    sweep's; together they must hold every chunk (a chunk found in several folders is taken once, when its
+    copies agree; copies that differ are refused, naming both). ``out_dir``: the folder that receives the chunks, ``result.json`` and ``result.csv`` (it may
     be one of ``folders``). Returns the assembled result (:func:`assemble`).
 
     ``out_dir`` is created if missing (its parent must exist, as for :func:`run_sweep`). Every chunk file

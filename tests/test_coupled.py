@@ -555,3 +555,10 @@ def test_the_reach_ceiling_bounds_every_surface_point_a_jump_can_meet():
     ahead[21, 10] += 0.005                                                  # x = +0.095 m
     assert float(reach_ceiling(grid, jnp.asarray(behind), origin, p, v, radius, duration)) == pytest.approx(0.0, abs=1e-15)
     assert float(reach_ceiling(grid, jnp.asarray(ahead), origin, p, v, radius, duration)) == pytest.approx(0.005)
+    # (a docs review) the origin as a tuple, as grid.origin is, is taken; a negative duration is refused
+    assert float(reach_ceiling(grid, jnp.asarray(ahead), (-0.115, -0.095), p, v, radius, duration)) == pytest.approx(0.005)
+    with pytest.raises(ParameterError, match="duration must be"):
+        reach_ceiling(grid, jnp.asarray(ahead), origin, p, v, radius, -1.0)
+    from jaxskip.water import placeless
+    with pytest.raises(ParameterError, match="grid must be a jaxskip.WaterGrid"):
+        placeless(None)

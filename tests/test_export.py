@@ -396,3 +396,13 @@ def test_the_spin_warning_at_a_tiny_frame_rate_is_a_readable_number(default_thro
                                          r"frames/s") as caught:
         write_trajectory(default_throw, tmp_path / "slow.csv", fps=1e-300)
     assert max(len(str(w.message)) for w in caught) < 300
+
+
+def test_spin_per_frame_checks_its_frame_rate(default_throw):
+    """(stop 47, a docs review) spin_per_frame took any fps: 0 was a bare ZeroDivisionError, -30 a negative angle."""
+    from jaxskip.export import spin_per_frame
+
+    assert spin_per_frame(default_throw, 60.0) == pytest.approx(2 * spin_per_frame(default_throw, 120.0))
+    for bad in (0.0, -30.0, float("nan"), "30"):
+        with pytest.raises(ParameterError, match="fps must be"):
+            spin_per_frame(default_throw, bad)
