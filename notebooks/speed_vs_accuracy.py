@@ -150,8 +150,8 @@ for n in segs:
 # stone time). Reference: the same window at half the spacing (0.5 cm, 128² columns) with the
 # paper's clamp, stepped every 0.25 ms in full mode. Each throw runs on its own (compiled once per
 # configuration; compile excluded), on a subset of the batch — flat water too, so that the series
-# compares like with like: a coupled throw costs 2.6–7.2× a flat one, timed the same way (printed
-# below; full mode, 2026-12-07). Full mode also varies the water's step (0.5 and 4 ms against the default 1 ms): the
+# compares like with like: a coupled throw costs 4.7–12.0× a flat one, timed the same way (printed
+# below; full mode, 2026-12-07, stop 47). Full mode also varies the water's step (0.5 and 4 ms against the default 1 ms): the
 # multirate coupling's own knob.
 
 # %%
@@ -362,16 +362,18 @@ RUN.done(path)
 # * **Mesh.** From 32 to 512 triangles the disk's count disagreement with 1024 triangles falls
 #   from 19 % to 5 % at roughly linear cost; the paper's 38-triangle stone is at the coarse end.
 # * **Water.** The height field is *not converged* in its spacing: at 1 cm the counts differ from
-#   the 0.5 cm reference on 66.7–75.0 % of throws, the first contact by 14.1 % and the second
-#   touchdown by 16.0–16.9 %, whatever the clamp (reference stepped every 0.25 ms; session 13, with a
-#   1 ms reference: ~75 %, ~21 %, 26–27 %). Its time step matters less than its spacing: a water
-#   step of 0.5 ms instead of the default 1 ms gains nothing (first contact 16.0 %, worse than the
-#   default step's 14.1 %; second touchdown 16.5 % against 16.9 %) at 1.6× the cost (19.42 against
-#   12.46 ms), 4 ms loses a lot (33.8 % / 45.1 %) for a 1.8× saving (6.90 ms) — so 1 ms stays. The
+#   the 0.5 cm reference on 62.5–70.8 % of throws, the first contact by 13.2 % and the second
+#   touchdown by 16.4–17.4 %, whatever the clamp (reference stepped every 0.25 ms; stop 47, the
+#   flight jumps aiming above the water they can reach; stop 46: 66.7–75.0 %, 14.1 %, 16.0–16.9 %;
+#   session 13, with a 1 ms reference: ~75 %, ~21 %, 26–27 %). Its time step matters less than its
+#   spacing: a water step of 0.5 ms instead of the default 1 ms gains little (first contact 15.9 %,
+#   worse than the default step's 13.2 %; second touchdown 17.0 % against 17.4 %) at 1.5× the cost
+#   (25.54 against 17.15 ms), 4 ms loses a lot (32.4 % / 44.9 %) for a 1.7× saving (10.02 ms) — so
+#   1 ms stays. The
 #   coupling also changes the contact itself: flat water's first contact differs from the 0.5 cm
 #   field's by ~110 %. Flat water stays the library's default; the coupled field is an experimental
 #   option (docs/water.md).
 # * **Cost bases.** The water series is timed one throw at a time on the first 24 throws, the
-#   rest as batches of 128 run to completion: the default configuration costs 7.31 ms/throw batched
-#   and 2.69 ms/throw one at a time (the "flat water" point), so the water points' costs compare
-#   with each other (the height field costs 2.6–7.2× flat water), not with the paper stone's.
+#   rest as batches of 128 run to completion: the default configuration costs 4.26 ms/throw batched
+#   and 2.13 ms/throw one at a time (the "flat water" point), so the water points' costs compare
+#   with each other (the height field costs 4.7–12.0× flat water), not with the paper stone's.
