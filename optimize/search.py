@@ -172,7 +172,8 @@ def _recorded(search):
         settings = {**{k: _plain(v) for k, v in given.items()},
                     "stone": (os.fspath(stone) if isinstance(stone, (str, os.PathLike))
                               else f"a {type(stone).__name__} of {float(resolve_stone(stone)[0].mass):.6g} kg"),
-                    "config": _plain(dataclasses.asdict(config)),
+                    # (as run: every search's throws keep no trajectory; it read "record": true, a review)
+                    "config": _plain(dataclasses.asdict(dataclasses.replace(config, record=False))),
                     "water": {f.name: float(getattr(water, f.name)) for f in dataclasses.fields(water)},
                     "precision": "float64" if jax.config.jax_enable_x64 else "float32"}
         return dataclasses.replace(result, settings=settings)

@@ -674,6 +674,7 @@ def test_a_search_records_what_it_ran_with_and_runs_again_from_it():
     s = json.loads(json.dumps(r.to_dict()))["settings"]
     assert (s["starts"], s["iterations"], s["seed"], s["learning_rate"], s["screen"], s["polish"]) == (2, 1, 5, 0.2, 4, 0)
     assert s["stone"] == "paper" and s["precision"] == "float64" and s["config"]["duration"] == 0.2
+    assert s["config"]["record"] is False   # (as the search ran its throws; it read true, stop 47's review)
     config = SimConfig(**{k: v for k, v in s["config"].items() if k != "force"}, force=ForceModel(**s["config"]["force"]))
     args = {k: v for k, v in s.items() if k not in ("stone", "config", "water", "precision")}
     again = optimize.gradient_search(r.box, stone=s["stone"], config=config, water=water_params(**{
