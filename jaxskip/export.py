@@ -347,8 +347,9 @@ def write_trajectory(result, path, fps: float = 60.0, mesh: TriMesh | None = Non
              f"in its body frame (centre of mass, principal axes); speed {float(t.speed):g} m/s, tilt "
              f"{math.degrees(float(t.tilt)):g} deg, attack {math.degrees(float(t.attack)):g} deg, spin "
              f"{float(t.spin) / (2 * math.pi):g} rev/s; {result.bounces} bounces, {result.outcome}; the motion "
-             f"ends there, at t = {float(f['time'][-1]):.9g} s, the last frame's time (off the frame grid "
-             "unless it falls on it); quaternions (w, x, y, z) rotate the body frame to the world frame, z up "
+             # (the run's last time, whatever the frame rate: one stone file serves every rate)
+             f"ends there, at t = {float(np.asarray(result.trajectory['time'])[-1]):.9g} s, the last frame's time "
+             "(off the frame grid unless it falls on it); quaternions (w, x, y, z) rotate the body frame to the world frame, z up "
              "(an OBJ importer that assumes y up must be told z up); " + _water_words(result))
     if placed is None:
         stone = dataclasses.replace(body_mesh(result.rigid), name=about)
