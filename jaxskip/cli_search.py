@@ -82,7 +82,8 @@ def add_parsers(sub, ranges: bool = True) -> None:
                        help=f"hold {text} at this value, in [{low:g}, {high:g}]")
     o.add_argument("--method", choices=METHODS, default=GRADIENT,
                    help="gradient (optax on the smooth count, default), perturbation (randomised smoothing), "
-                        "grid or random (exhaustive baselines)")
+                        "grid or random (exhaustive baselines); for the most bounces of a free stone, whose count is "
+                        "spiky, perturbation or random find more at the same cost (docs/search.md)")
     _only(o, METHOD_FLAGS, "--objective", "what the gradient search ascends (default bounces: the smooth count)",
           choices=("bounces", "distance"))
     _only(o, METHOD_FLAGS, "--starts", f"random starts, in {span('starts')} (default 8)", type=_int, metavar="N")
