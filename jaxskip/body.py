@@ -267,7 +267,8 @@ def rigid_stone(mesh: TriMesh, *, density: float | None = None, mass: float | No
     # OBJ scaled by 1e100 was refused as "a density or mass beyond any physical range?"), and before the mesh's
     # checks (which name a mesh over 1 km across by its span alone); nearer the range, by its exact radius below.
     vertices = np.asarray(mesh.vertices, dtype=np.float64)
-    span = float(np.max(np.ptp(vertices, axis=0))) if np.all(np.isfinite(vertices)) else None
+    # (an empty mesh is named by validate_mesh, below: np.ptp of no vertices raised a raw ValueError; a review)
+    span = float(np.max(np.ptp(vertices, axis=0))) if vertices.size and np.all(np.isfinite(vertices)) else None
     if span is not None and not (1e-3 * RADIUS_RANGE[0] <= span and 0.5 * span <= 1e3 * RADIUS_RANGE[1]):
         raise ParameterError(_size_message(mesh.name, f"about {0.5 * span:.3g} to {span:.3g}"))
     validate_mesh(mesh.vertices, mesh.faces, name=mesh.name)  # closed, outward, no degenerate triangle

@@ -541,9 +541,12 @@ def _warning_printer(args):
 
 def main(argv=None) -> int:
     """Entry point of the ``jaxskip`` command; returns the exit status."""
-    for name in ("stdout", "stderr"):   # closed by the caller (``python -m jaxskip 2>&-``): Python's None there
-        if getattr(sys, name) is None:  # crashed the command, or sent its warnings to stdout (jaxskip_cli.py)
-            setattr(sys, name, open(os.devnull, "w"))
+    try:   # a stream the caller closed (``python -m jaxskip 2>&-``), as the ``jaxskip`` command does first
+        from jaxskip_cli import _open_closed_streams
+    except ImportError:   # (jaxskip_cli is installed beside the package; not on a bare PYTHONPATH of the package)
+        pass
+    else:
+        _open_closed_streams()
     parser = build_parser(argv)
     args, extra = parser.parse_known_args(argv)
     if extra:  # said by the command's parser, whose --help lists the flags it takes

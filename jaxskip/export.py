@@ -180,17 +180,32 @@ def _same_name(owner: str, path: str) -> bool:
 
 
 def _siblings(path: str) -> list:
-    """The other trajectories that share ``path``'s stone file, by file name: ``throw.json`` beside ``throw.csv``."""
-    stem, found = os.path.splitext(path)[0], []
-    for suffix in (".csv", ".json", ".CSV", ".JSON"):
-        other = stem + suffix
-        if not os.path.isfile(other):
+    """The other trajectories beside ``path`` that share its stone file, by file name: ``throw.json`` beside
+    ``throw.csv`` (a suffix in any case), each one :func:`write_trajectory` wrote (a JSON naming the stone file, a
+    CSV headed by :data:`COLUMNS`; a file of one's own of that name is not one: a review)."""
+    folder = os.path.dirname(os.path.abspath(path))
+    stem = os.path.splitext(os.path.basename(path))[0]
+    obj = os.path.basename(stone_path(path))
+    found = []
+    for name in sorted(os.listdir(folder)):
+        root, suffix = os.path.splitext(name)
+        other = os.path.join(folder, name)
+        if root != stem or suffix.lower() not in (".csv", ".json") or not os.path.isfile(other):
             continue
-        # (itself, or one already found, under another case of its suffix on a case-blind disk)
-        if any(os.path.exists(p) and os.path.samefile(other, p) for p in [path, *found]):
+        if os.path.exists(path) and os.path.samefile(other, path):   # (itself, under another case, on a case-blind disk)
             continue
-        found.append(other)
-    return [os.path.basename(p) for p in found]
+        try:
+            with open(other, encoding="utf-8") as fh:
+                if suffix.lower() == ".csv":
+                    mine = fh.readline().strip() == ",".join(COLUMNS)
+                else:
+                    data = json.load(fh)
+                    mine = isinstance(data, dict) and data.get("stone_obj") == obj
+        except (OSError, ValueError):
+            mine = False
+        if mine:
+            found.append(name)
+    return found
 
 
 def check_stone_file(path) -> None:
@@ -400,8 +415,8 @@ def write_trajectory(result, path, fps: float = 60.0, mesh: TriMesh | None = Non
 
 
 def spin_per_frame(result, fps: float) -> float:
-    """The largest angle [rad] the stone of ``result`` turns between two frames at ``fps`` [1/s], in (0, 10000]:
-    the largest angular speed of its trajectory over ``fps`` (0 with the tilt held, where the stone does not
+    """The largest angle [rad] the stone of ``result`` turns between two frames at ``fps`` [1/s] (a frame rate in
+    (0, 10000]): the largest angular speed of its trajectory over ``fps`` (0 with the tilt held, where the stone does not
     turn). Above π a tool that interpolates between keyframes turns it the wrong way (:func:`write_trajectory`
     warns)."""
     _check_result(result)

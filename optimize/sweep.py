@@ -510,7 +510,7 @@ def _write_new(path: Path, text: str) -> bool:
 RECOMPUTE = "delete it and run the sweep again in that folder to recompute the chunk"
 
 
-def run_sweep(spec: SweepSpec, out_dir=None, *, shard_index: int = 0, num_shards: int = 1,
+def run_sweep(spec: SweepSpec, out_dir=None, *, shard_index: int | None = None, num_shards: int = 1,
               progress: bool = False, _stop_after: int | None = None) -> dict | None:
     """Compute the sweep's chunks (those of this shard), resuming from ``out_dir``.
 
@@ -531,10 +531,15 @@ def run_sweep(spec: SweepSpec, out_dir=None, *, shard_index: int = 0, num_shards
         raise ParameterError(f"spec must be an optimize.SweepSpec (build it with optimize.make_spec(kind, tilts=...)), "
                              f"got {type(spec).__name__}")
     num_shards = check_int("num_shards", num_shards, minimum=1)
-    shard_index = check_int("shard_index", shard_index, minimum=0, maximum=num_shards - 1)
-    progress = check_bool("progress", progress)
     if out_dir is None and num_shards > 1:
         raise ParameterError("num_shards > 1 needs an out_dir: a shard's chunks are joined from the folders (merge)")
+    if shard_index is None:
+        if num_shards > 1:   # (it ran shard 0: a second machine that forgot its index repeated the first's work)
+            raise ParameterError(f"num_shards={num_shards} needs shard_index, this machine's shard, in "
+                                 f"[0, {num_shards - 1}]")
+        shard_index = 0
+    shard_index = check_int("shard_index", shard_index, minimum=0, maximum=num_shards - 1)
+    progress = check_bool("progress", progress)
     made_in = spec.config.get("precision") if isinstance(spec.config, dict) else None
     if made_in != _precision():
         raise ParameterError(f"spec was made in {made_in} and this process computes in {_precision()}: make the spec "
@@ -564,19 +569,25 @@ def run_sweep(spec: SweepSpec, out_dir=None, *, shard_index: int = 0, num_shards
         warn_stability(config, rigid, water, spec.speed_range[1] if spec.kind == "umin" else spec.speed,
                        stacklevel=caller_level() + 1)
     todo = sum(1 for j in range(len(chunks)) if j not in results and j % num_shards == shard_index)
-    started = time.monotonic()
+    started = first_done = time.monotonic()
     with silenced_batches():
         for j, (index, path) in enumerate(zip(chunks, paths)):
             if j in results or j % num_shards != shard_index:
+                continue
+            if path is not None and path.exists():   # written meanwhile by another run in this folder: kept
+                results[j] = _load_chunk(path, spec, j, index, RECOMPUTE)
                 continue
             if _stop_after is not None and computed >= _stop_after:
                 raise KeyboardInterrupt(f"stopped after {computed} chunks (test)")
             if progress:
                 what = ("tilt" if spec.kind == "umin" else "grid point") + ("" if len(index) == 1 else "s")
-                # (how long so far and how long to go: a 60-chunk sweep's log gave neither; a review)
+                # (how long so far and how long to go: a 60-chunk sweep's log gave neither; a review) The pace is
+                # taken after the first chunk, which compiles.
                 spent = time.monotonic() - started
-                pace = (f"; {computed} of {todo} done in {duration_words(spent)}, about "
-                        f"{duration_words(spent / computed * (todo - computed))} left" if computed else "")
+                pace = "" if not computed else (
+                    f"; {computed} of {todo} done in {duration_words(spent)}, about "
+                    f"{duration_words((time.monotonic() - first_done) / (computed - 1) * (todo - computed))} left"
+                    if computed > 1 else f"; {computed} of {todo} done in {duration_words(spent)}")
                 print(f"  chunk {j + 1}/{len(chunks)} ({len(index)} {what}){pace}", file=sys.stderr, flush=True)
             work = _domain_chunk if spec.kind == "domain" else _umin_chunk
             data = {"chunk": j, "items": index.tolist(), "sweep": sweep_id(spec), **work(spec, sim, index, progress)}
@@ -584,6 +595,13 @@ def run_sweep(spec: SweepSpec, out_dir=None, *, shard_index: int = 0, num_shards
                 _write_atomic(path, json.dumps(data, sort_keys=True))
             results[j] = data
             computed += 1
+            if computed == 1:
+                first_done = time.monotonic()
+    # chunks of the other shards, where they share this folder and finished meanwhile: the last to finish writes the
+    # result (a review: checked only before the run, they were missed)
+    for j, (index, path) in enumerate(zip(chunks, paths)):
+        if j not in results and path is not None and path.exists():
+            results[j] = _load_chunk(path, spec, j, index, RECOMPUTE)
     _warn_diverged(spec, list(results.values()), sim[0])
     _warn_cut_off(spec, list(results.values()), sim[0])
     _warn_not_monotone(spec, list(results.values()))
@@ -749,6 +767,12 @@ def _load_chunk(path: Path, spec: SweepSpec, j: int, index: np.ndarray, remedy: 
     problem = _chunk_problem(data, spec, j, index)
     if problem is not None:
         raise ParameterError(f"{str(path)!r} is damaged ({problem}); {remedy}")
+    if spec.kind == "domain" and "sweep" not in data:
+        # Written before stop 47, when a first contact the duration cut off had the run's end as its end: its time
+        # is read as now written, None where the throw never bounced (the only such contacts), so that one
+        # result does not mix the two meanings.
+        data = {**data, "first_contact_time": [None if n == 0 else t
+                                               for n, t in zip(data["bounces"], data["first_contact_time"])]}
     return data
 
 
@@ -801,9 +825,32 @@ def _identity(spec: dict) -> dict:
 
 
 def sweep_id(spec: SweepSpec) -> str:
-    """The SHA-256 (hex) of what makes ``spec`` one sweep (its spec.json but an ``.obj`` stone's path): every chunk
-    file records it as ``"sweep"``, so that a chunk of another sweep put in a folder is refused."""
-    return hashlib.sha256(json.dumps(_identity(spec.to_dict()), sort_keys=True).encode()).hexdigest()
+    """The SHA-256 (hex) of what makes ``spec`` one sweep (as a folder's spec.json is compared: :func:`_identity`, so
+    not an ``.obj`` stone's path): every chunk file records it as ``"sweep"``, so that a chunk of another sweep put
+    in a folder is refused. Numbers are hashed as the comparison sees them (``-0.0`` as ``0.0``, ``1`` as ``1.0``:
+    a spin of -0 resumed with 0 was refused, a review), and a setting of :data:`SPEC_ADDED` at its value from before
+    it was recorded is left out, so that chunks written now still belong to their sweep once a later setting is
+    added."""
+    identity = _identity(spec.to_dict())
+    for key, old in SPEC_ADDED.items():
+        if identity.get(key) == old:
+            identity = {k: v for k, v in identity.items() if k != key}
+        config = identity.get("config")
+        if isinstance(config, dict) and config.get(key) == old:
+            identity = {**identity, "config": {k: v for k, v in config.items() if k != key}}
+    return hashlib.sha256(json.dumps(_plain_numbers(identity), sort_keys=True).encode()).hexdigest()
+
+
+def _plain_numbers(value):
+    """``value`` (JSON-ready) with every number as a float and ``-0.0`` as ``0.0``: what ``==`` does not tell apart,
+    written alike."""
+    if isinstance(value, dict):
+        return {k: _plain_numbers(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [_plain_numbers(v) for v in value]
+    if isinstance(value, (int, float)) and not isinstance(value, bool):
+        return float(value) + 0.0
+    return value
 
 
 def _spec_difference(old: dict, new: dict) -> str:
@@ -1006,14 +1053,15 @@ def write_results(result: dict, out: Path) -> None:
     else:
         # bounces_at_low > 0: the bracket's low end bounces already, umin_m_s is only an upper bound (no low end);
         # else the true U_min lies in (umin_low_m_s, umin_m_s] (the file alone did not say: a review)
-        rows.append(["tilt_deg", "attack_deg", "spin_rev_s", "umin_low_m_s", "umin_m_s", "bounces_at_high",
-                     "bounces_at_low", "diverged", "cut_off", "monotone"])
+        # (the new column last: a script reading columns by position reads them as before)
+        rows.append(["tilt_deg", "attack_deg", "spin_rev_s", "umin_m_s", "bounces_at_high", "bounces_at_low",
+                     "diverged", "cut_off", "monotone", "umin_low_m_s"])
         for i, t in enumerate(spec["tilts"]):
             u = result["umin"][i]
             low = "" if u is None or result["bounces_at_low"][i] else u - result["resolution"]
-            rows.append([t, spec["attacks"][0], spec["spin"], low, "" if u is None else u, result["bounces_at_high"][i],
+            rows.append([t, spec["attacks"][0], spec["spin"], "" if u is None else u, result["bounces_at_high"][i],
                          result["bounces_at_low"][i], result["diverged"][i],
-                         result["cut_off"][i], result["monotone"][i]])
+                         result["cut_off"][i], result["monotone"][i], low])
     from io import StringIO
 
     buf = StringIO()
@@ -1099,7 +1147,11 @@ def merge(folders, out_dir) -> dict:
     for j, data in found.items():
         p = out / f"chunk-{j:05d}.json"
         if p.exists():  # what the folder holds is what its result says (a re-run there reads it)
-            found[j] = _load_chunk(p, spec, j, chunks[j], "delete it and merge again")
+            held = _load_chunk(p, spec, j, chunks[j], "delete it and merge again")
+            if _chunk_values(held) != _chunk_values(data):   # (replaced the shards' copy unchecked; a review)
+                raise ParameterError(f"{str(source[j])!r} and {str(p)!r} are two copies of chunk {j} that differ: "
+                                     "delete the one you do not trust, then merge")
+            found[j] = held
         else:
             _write_atomic(p, json.dumps(data, sort_keys=True))
     merged = [found[j] for j in range(len(chunks))]

@@ -536,7 +536,7 @@ def test_optimize_and_sweep_print_each_warning_once_and_mark_diverged_throws(tmp
     assert sum("U_min sweep diverged" in line for line in captured.err.splitlines()) == 1
     assert "tilt   20.0 deg: no U_min:" in captured.out and "of its throws (scan and bisection) diverged" in captured.out
     rows = (tmp_path / "s" / "result.csv").read_text().splitlines()
-    assert rows[0].endswith(",diverged,cut_off,monotone") and rows[1].split(",")[-3:-1] != ["0", "0"]
+    assert rows[0].endswith(",diverged,cut_off,monotone,umin_low_m_s") and rows[1].split(",")[-4:-2] != ["0", "0"]
 
 
 def test_sweep_says_which_answers_the_duration_cut_off(tmp_path, capsys):

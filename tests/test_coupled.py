@@ -452,7 +452,8 @@ def test_held_tilt_flight_jumps_count_the_wake_touches_fixed_steps_count(paper, 
     """(2026-12-07, stop 46) On the height field a flight jump took the ripples under the stone as the surface it
     would meet, so a held-tilt stone (no spin shortens its jumps) stepped over brief touches of the crests of its own
     wake that fixed steps resolve (the first of these throws: 7 bounces fewer than fixed steps). The jumps now aim above
-    the window's highest surface (``make_step(ceiling=...)``) and count within one bounce of fixed steps."""
+    the highest water they can reach (``make_step(ceiling=...)``, :func:`jaxskip.coupled.reach_ceiling`; the window's
+    highest until stop 47) and count within one bounce of fixed steps."""
     grid = default_window()
     throws = Throw.from_degrees(speed=jnp.array([9.1, 8.5]), tilt=jnp.array([9.0, 14.0]),
                                 attack=jnp.array([11.0, 8.0]), spin=jnp.array([4.0, 20.0]))
@@ -562,3 +563,34 @@ def test_the_reach_ceiling_bounds_every_surface_point_a_jump_can_meet():
     from jaxskip.water import placeless
     with pytest.raises(ParameterError, match="grid must be a jaxskip.WaterGrid"):
         placeless(None)
+
+
+def test_the_coupled_step_bounds_its_jumps_by_the_reachable_water(paper, water, monkeypatch):
+    """(stop 47, a review of the session's diff) Nothing pinned that the coupled step uses reach_ceiling: the window's
+    highest column in its place kept every other test green. The step asks it for the bound over
+    ``max_flight_step``, and a higher ceiling (5 cm: water standing that high within reach) shortens the first
+    jump of a stone released 6 cm up over still water."""
+    import jaxskip.coupled as coupled
+
+    seen = []
+    real = coupled.reach_ceiling
+
+    def spy(grid, height, origin, position, velocity, radius, duration):
+        seen.append(duration)
+        return real(grid, height, origin, position, velocity, radius, duration)
+
+    monkeypatch.setattr(coupled, "reach_ceiling", spy)
+    config = SimConfig(record=False, max_flight_step=0.02)
+    grid = default_window()
+    step = coupled.make_coupled_step(config, grid)
+    throw = Throw.from_degrees(speed=3.0, attack=0.0, height=0.06)
+    from jaxskip.simulate import initial_carry
+    state, tr = initial_carry(config, throw, paper)
+    f = initial_field(grid, state.position)
+    (state1, _, _), _ = step((state, tr, f), paper, water)
+    assert seen == [0.02]
+    free = float(state1.time - state.time)
+    monkeypatch.setattr(coupled, "reach_ceiling", lambda *a: jnp.asarray(0.05))
+    step = coupled.make_coupled_step(config, grid)
+    (state2, _, _), _ = step((state, tr, f), paper, water)
+    assert float(state2.time - state.time) < free

@@ -406,3 +406,20 @@ def test_spin_per_frame_checks_its_frame_rate(default_throw):
     for bad in (0.0, -30.0, float("nan"), "30"):
         with pytest.raises(ParameterError, match="fps must be"):
             spin_per_frame(default_throw, bad)
+
+
+def test_only_a_trajectory_beside_it_guards_the_stone_file(default_throw, tmp_path):
+    """(stop 47, a review of the session's diff) Any run.json beside run.csv, one's own settings file too, was taken
+    for a trajectory sharing the stone file (and the user told to delete it); a trajectory named with a suffix in
+    mixed case (run.Json) was not seen at all."""
+    from jaxskip import simulate
+
+    other = simulate(stone="clanet", config=SimConfig(duration=0.05))
+    write_trajectory(default_throw, tmp_path / "run.csv")
+    (tmp_path / "run.json").write_text('{"my": "settings"}')
+    write_trajectory(other, tmp_path / "run.csv")                 # its own stone file, replaced as before
+    assert "clanet" in (tmp_path / "run.stone.obj").read_text().splitlines()[0]
+    write_trajectory(default_throw, tmp_path / "x.Json")
+    write_trajectory(default_throw, tmp_path / "x.csv")           # the same throw: one stone file
+    with pytest.raises(ParameterError, match=r"which the trajectory 'x.Json' beside it was written with"):
+        write_trajectory(other, tmp_path / "x.csv")

@@ -614,3 +614,12 @@ def test_write_obj_with_its_arguments_swapped_says_so(tmp_path):
     with pytest.raises(MeshError, match=r"^path must be a file name \(str or os.PathLike\), got a TriMesh: the arguments "
                                         r"are write_obj\(path, mesh\)$"):
         write_obj(disk(0.04, 0.01), str(tmp_path / "x.obj"))
+
+
+def test_an_empty_mesh_is_named_as_such_by_rigid_stone():
+    """(stop 47, a review of the session's diff) With the stone's size checked before the mesh, an empty mesh met
+    NumPy's raw "zero-size array to reduction operation maximum" instead of the mesh check's message."""
+    from jaxskip import rigid_stone
+
+    with pytest.raises(MeshError, match="a closed mesh needs at least 4 triangles, got 0"):
+        rigid_stone(TriMesh(np.zeros((0, 3)), np.zeros((0, 3), dtype=int)), density=2650.0)

@@ -335,10 +335,11 @@ def test_no_parabola_through_speeds_that_are_only_bounds(tmp_path):
     assert r["best_tilt_fit"] is None and r["best_umin_fit"] is None and r["best_umin"] == 1.85
     write_results(r, tmp_path)
     rows = (tmp_path / "result.csv").read_text().splitlines()
-    assert rows[0].endswith(",umin_low_m_s,umin_m_s,bounces_at_high,bounces_at_low,diverged,cut_off,monotone")
-    assert rows[2].endswith(",,1.85,1,1,0,0,1")                       # a bound: no low end
-    # a bracketed U_min gives its bracket, (umin - resolution, umin] (stop 47: the file alone did not say)
-    low, high = map(float, rows[1].split(",")[3:5])
+    assert rows[0].endswith(",umin_m_s,bounces_at_high,bounces_at_low,diverged,cut_off,monotone,umin_low_m_s")
+    assert rows[2].endswith(",1.85,1,1,0,0,1,")                       # a bound: no low end
+    # a bracketed U_min gives its bracket, (umin - resolution, umin] (stop 47: the file alone did not say; the new
+    # column last, so that columns read by position read as before)
+    high, low = float(rows[1].split(",")[3]), float(rows[1].split(",")[-1])
     assert high == 2.30 and high - low == pytest.approx(r["resolution"], rel=1e-12)
     r = assemble(spec, [dict(chunk, bounces_at_low=[0, 0, 0, 0], umin=[2.30, 1.90, 1.88, 2.04])])
     assert 12.0 < r["best_tilt_fit"] < 18.0  # measured speeds: the parabola stands
@@ -724,7 +725,8 @@ def test_a_spec_is_run_in_the_precision_it_was_made_in(tmp_path):
 
 def test_merge_reports_what_its_folder_holds(tmp_path):
     """Merging into a folder that already holds a chunk keeps that chunk file, so the result must be
-    assembled from it: result.json said one thing and the chunk (read by a re-run there) another."""
+    assembled from it: result.json said one thing and the chunk (read by a re-run there) another. Since stop 47 a
+    copy there that differs from the shards' is refused, as two shards' differing copies are."""
     import shutil
 
     spec = small_domain()
@@ -735,8 +737,11 @@ def test_merge_reports_what_its_folder_holds(tmp_path):
     data = json.loads(chunk.read_text())
     data["bounces"] = [data["bounces"][0] + 5]  # as another machine's rounding might have it
     chunk.write_text(json.dumps(data, sort_keys=True))
+    with pytest.raises(ParameterError, match="are two copies of chunk 0 that differ"):
+        merge([tmp_path / "s0", tmp_path / "s1"], tmp_path / "x")
+    shutil.copy(tmp_path / "s0" / "chunk-00000.json", chunk)     # the same copy: kept, and the result from it
     merged = merge([tmp_path / "s0", tmp_path / "s1"], tmp_path / "x")
-    assert merged["bounces"][0][0] == data["bounces"][0]
+    assert merged["bounces"][0][0] == data["bounces"][0] - 5
     assert json.loads((tmp_path / "x" / "result.json").read_text())["bounces"] == merged["bounces"]
     assert run_sweep(spec, tmp_path / "x")["bounces"] == merged["bounces"]  # a re-run there agrees
 
@@ -899,7 +904,8 @@ def test_umin_of_a_free_stone_that_flips_at_speed_is_its_lowest_bouncing_speed(t
         r = run_sweep(spec, tmp_path / "s")
     assert r["bounces_at_high"] == [0] and r["monotone"] == [0] and r["cut_off"] == [0]
     assert 2.0 < r["umin"][0] <= 2.5 + (12.0 - 0.5) / 9 / 2**3, r["umin"]
-    assert (tmp_path / "s" / "result.csv").read_text().splitlines()[1].endswith(",0,0,0")
+    row = (tmp_path / "s" / "result.csv").read_text().splitlines()[1].split(",")
+    assert row[6:9] == ["0", "0", "0"]                    # diverged, cut_off, monotone
 
 
 def test_a_tie_for_the_lowest_umin_is_one_answer_in_the_result():
@@ -1009,12 +1015,58 @@ def test_a_sweeps_progress_says_what_is_kept_and_how_long_is_left(tmp_path, caps
     60-chunk sweep's log); it also counts the chunks it keeps from an earlier run."""
     import re
 
-    spec = make_spec("umin", tilts=[10.0, 20.0, 30.0], iterations=2, chunk_size=1, max_steps=2000)
+    spec = make_spec("umin", tilts=[10.0, 20.0, 30.0, 40.0], iterations=2, chunk_size=1, max_steps=2000)
     with pytest.raises(KeyboardInterrupt):
         run_sweep(spec, tmp_path / "s", _stop_after=1)
     capsys.readouterr()
     run_sweep(spec, tmp_path / "s", progress=True)
     err = capsys.readouterr().err
-    assert "  1 of 3 chunks already in" in err and "(kept, not recomputed)" in err
-    assert "  chunk 2/3 (1 tilt)\n" in err                              # the first to compute: no pace yet
-    assert re.search(r"  chunk 3/3 \(1 tilt\); 1 of 2 done in \d+ s, about \d+ s left\n", err), err
+    assert "  1 of 4 chunks already in" in err and "(kept, not recomputed)" in err
+    assert "  chunk 2/4 (1 tilt)\n" in err                              # the first to compute: no pace yet
+    # the pace from the second on (the first compiles): the time left from the third
+    assert re.search(r"  chunk 3/4 \(1 tilt\); 1 of 3 done in \d+ s\n", err), err
+    assert re.search(r"  chunk 4/4 \(1 tilt\); 2 of 3 done in \d+ s, about \d+ s left\n", err), err
+
+
+def test_the_sweep_id_agrees_with_the_spec_check(tmp_path):
+    """(stop 47, a review of the session's diff) The chunks' sweep id hashed the spec's JSON text, which tells -0.0 from
+    0.0 where the folder's check (dict equality) does not: a sweep at spin -0 resumed with spin 0 passed the check and
+    then refused its own chunk as "of another sweep". Numbers are hashed as they compare."""
+    from optimize.sweep import sweep_id
+
+    def spec(spin):
+        return make_spec("domain", tilts=[20.0], attacks=[20.0], speed=3.5, spin=spin, max_steps=400)
+
+    assert sweep_id(spec(-0.0)) == sweep_id(spec(0.0)) != sweep_id(spec(1.0))
+    whole = run_sweep(spec(-0.0), tmp_path / "s")
+    (tmp_path / "s" / "result.json").unlink()
+    assert run_sweep(spec(0.0), tmp_path / "s") == whole
+
+
+def test_merge_refuses_a_differing_copy_in_its_out_folder_and_old_domain_chunks_read_as_now(tmp_path):
+    """(stop 47, a review of the session's diff) merge compared the shards' copies of a chunk but replaced them with the
+    out folder's own copy unchecked; and a domain chunk written before stop 47 kept a first-contact time where the
+    duration cut the contact off (the run's end), beside new chunks' None."""
+    spec = small_domain()
+    whole = run_sweep(spec, tmp_path / "a")
+    (tmp_path / "out").mkdir()
+    (tmp_path / "out" / "spec.json").write_text((tmp_path / "a" / "spec.json").read_text())
+    data = json.loads((tmp_path / "a" / "chunk-00000.json").read_text())
+    (tmp_path / "out" / "chunk-00000.json").write_text(json.dumps({**data, "bounces": [data["bounces"][0] + 1]}))
+    with pytest.raises(ParameterError, match="are two copies of chunk 0 that differ"):
+        merge([tmp_path / "a"], tmp_path / "out")
+    # an old chunk (no "sweep"): where the throw never bounced its first contact has no duration, as now written
+    old = {k: v for k, v in data.items() if k != "sweep"}
+    assert data["bounces"] == [4] and data["first_contact_time"][0] is not None
+    (tmp_path / "a" / "chunk-00000.json").write_text(json.dumps({**old, "bounces": [0], "first_contact_time": [0.2]}))
+    (tmp_path / "a" / "result.json").unlink()
+    again = run_sweep(spec, tmp_path / "a")
+    assert again["bounces"][0][0] == 0 and again["first_contact_time"][0][0] is None
+    assert again["bounces"][1:] == whole["bounces"][1:]
+
+
+def test_the_api_needs_a_shard_index_with_several_shards(tmp_path):
+    """(stop 47, a review) run_sweep(num_shards=2) without shard_index ran shard 0, as the CLI did."""
+    with pytest.raises(ParameterError, match=r"num_shards=2 needs shard_index, this machine's shard, in \[0, 1\]"):
+        run_sweep(small_domain(), tmp_path / "s", num_shards=2)
+    assert not (tmp_path / "s").exists()
