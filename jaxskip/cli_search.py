@@ -288,6 +288,12 @@ def run_optimize(args) -> int:
             if r.objective == "bounces":
                 _say(f"  the ascent's best: {ascent} bounces; the polish ({len(polish[0]['bounces'])} exact throws "
                      f"near its best throws): {max(polish[0]['bounces'])}")
+            else:   # (the distance objective said nothing of what the polish added; a review)
+                far = max((d for h in r.history if h.get("phase") != "polish" for d in h.get("distance") or ()
+                           if d is not None and math.isfinite(d)), default=None)
+                if far is not None:
+                    _say(f"  the ascent's farthest: {far:.2f} m; the polish ({len(polish[0]['distance'])} exact throws "
+                         f"near its farthest): {max(polish[0]['distance']):.2f} m")
         if health is not None:
             fmt = lambda v: "n/a" if v is None else f"{v:.3g}"  # noqa: E731
             st = health["starts"]

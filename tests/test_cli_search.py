@@ -337,6 +337,8 @@ def test_optimize_distance_reports_the_longest_throw(capsys):
     assert main(argv) == 0
     text = capsys.readouterr().out
     assert text.startswith("gradient search: longest distance ") and " m (" in text
+    # (stop 47, a review) what the polish added was said for the count only
+    assert "the ascent's farthest: " in text and "the polish (2 exact throws near its farthest): " in text
     assert main(argv + ["--json"]) == 0
     r = json.loads(capsys.readouterr().out)
     assert r["objective"] == "distance" and r["best_distance"] == max(d for h in r["history"] for d in h["distance"])
