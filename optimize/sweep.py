@@ -583,11 +583,10 @@ def run_sweep(spec: SweepSpec, out_dir=None, *, shard_index: int | None = None, 
                 what = ("tilt" if spec.kind == "umin" else "grid point") + ("" if len(index) == 1 else "s")
                 # (how long so far and how long to go: a 60-chunk sweep's log gave neither; a review) The pace is
                 # taken after the first chunk, which compiles.
-                spent = time.monotonic() - started
-                pace = "" if not computed else (
-                    f"; {computed} of {todo} done in {duration_words(spent)}, about "
-                    f"{duration_words((time.monotonic() - first_done) / (computed - 1) * (todo - computed))} left"
-                    if computed > 1 else f"; {computed} of {todo} done in {duration_words(spent)}")
+                pace = f"; {computed} of {todo} done in {duration_words(time.monotonic() - started)}" if computed else ""
+                if computed > 1:
+                    left = (time.monotonic() - first_done) / (computed - 1) * (todo - computed)
+                    pace += f", about {duration_words(left)} left"
                 print(f"  chunk {j + 1}/{len(chunks)} ({len(index)} {what}){pace}", file=sys.stderr, flush=True)
             work = _domain_chunk if spec.kind == "domain" else _umin_chunk
             data = {"chunk": j, "items": index.tolist(), "sweep": sweep_id(spec), **work(spec, sim, index, progress)}

@@ -1116,3 +1116,16 @@ def test_duration_states_one_rule_for_nan_and_for_too_short():
     for bad in (math.nan, -1.0, 0.0):
         with pytest.raises(ParameterError, match=r"duration must be .*>= dt, the time step \(0.00025 s; --dt in the CLI\)"):
             SimConfig(duration=bad)
+
+
+def test_the_cli_defaults_are_simconfigs():
+    """The CLI's simulation defaults (``SIM_DEFAULTS``, written out for the help and the sweeps' spec.json) are
+    :class:`SimConfig`'s own, field by field (``bounce_clearance`` joined them at stop 47)."""
+    import dataclasses
+
+    from jaxskip.settings import SIM_DEFAULTS
+
+    fields = {f.name for f in dataclasses.fields(SimConfig)}
+    shared = {k for k in SIM_DEFAULTS if k in fields and SIM_DEFAULTS[k] is not None}
+    assert {"dt", "duration", "attitude", "integrator", "bounce_clearance"} <= shared
+    assert {k: SIM_DEFAULTS[k] for k in shared} == {k: getattr(SimConfig(), k) for k in shared}
