@@ -396,7 +396,7 @@ def step(state: dict, tr: dict, stone: NpStone, water: NpWater, config) -> tuple
     capped = (abs(c2) > ASYMMETRY_TOLERANCE * abs(c3)) & (rate > turn / LONGEST_CAP)
     cap = np.where(capped, turn / np.where(capped, rate, 1.0), np.inf)
     dt = np.maximum(np.minimum(dt, cap), config.dt)
-    dt = np.minimum(dt, np.maximum(config.duration - t, config.dt))  # a jump never passes the duration
+    dt = np.minimum(dt, np.maximum(config.duration - t, 0.0))  # no step passes the duration (as jaxskip's)
 
     # Contact bookkeeping at the start of the step.
     alive0 = tr["alive"]

@@ -212,3 +212,31 @@ def test_a_face_lying_on_the_water_is_not_cut_by_rounding_noise(water):
         assert max(xs) - min(xs) < 1e-9, (attitude, xs)      # was 0.2 m (fixed) and 19 mm (free) apart
         g = jax.jit(jax.grad(lambda t: rollout(config, t, disk, water)[0].position[0]))(flat)
         assert all(abs(float(getattr(g, k))) < 1e3 for k in ("speed", "tilt", "attack")), (attitude, g)
+
+
+def test_a_run_ended_by_its_duration_stops_at_that_time_for_every_throw(paper, water):
+    """A run ended by ``time_limit`` while the stone is in the water stops at ``duration`` exactly: its end time
+    does not move with the throw (zero gradient), so its final state is a state at a fixed time, as ``rollout``'s
+    docstring says to use one. Before stop 48 the contact step that began before the limit was taken whole: this
+    throw stopped at 0.20015 s, dT/dtilt 0.865 s/rad, and d x / d tilt read 0.086 m/rad where the state at 0.2 s
+    moves by -3.2 m/rad (a review). Its derivative against central differences too, exact and smooth clipping."""
+    from jaxskip.simulate import OUTCOMES, steps_for
+
+    duration = 0.2
+    config = SimConfig(record=False, duration=duration, max_steps=steps_for(duration, 2.5e-4))
+    base = Throw.from_degrees(speed=5.0, tilt=15.0, attack=8.0, spin=10.0)
+    run = jax.jit(lambda t: rollout(config, t, paper, water)[:2])
+    state, tr = run(base)
+    assert OUTCOMES[int(tr.outcome)] == "time_limit"
+    assert int(tr.contacts) >= 1 and int(tr.phase) != 0   # it ends in the water (not in a flight jump)
+    assert float(state.time) == duration
+    dtime = jax.jit(jax.grad(lambda t: rollout(config, t, paper, water)[0].time))(base)
+    assert all(float(getattr(dtime, name)) == 0.0 for name in FIELDS), dtime
+    # (1e-4: spin's derivative is 1.5e-3 m per rad/s, where the differences' rounding is ~2e-8; the end-time term
+    # was as large as the derivative itself)
+    fd_check(lambda t: rollout(config, t, paper, water)[0].position[0], base, rtol=1e-4,
+             value=lambda t: run(t)[0].position[0])
+    # fixed steps end there too (SimConfig(flight="step"))
+    fixed = dataclasses.replace(config, flight="step")
+    state, tr = jax.jit(lambda t: rollout(fixed, t, paper, water)[:2])(base)
+    assert OUTCOMES[int(tr.outcome)] == "time_limit" and float(state.time) == duration
