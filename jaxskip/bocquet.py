@@ -225,7 +225,11 @@ def immersed_area(stone: ReducedStone, depth, tilt):
     >>> round(float(immersed_area(ReducedStone(), 0.01, math.radians(30.0))), 6)   # 0.1 m x 0.02 m wetted
     0.002
     """
-    s = jnp.maximum(depth, 0.0) / jnp.sin(tilt)        # wetted length along the face
+    # wetted length along the face; at tilt <= 0 (traced: unchecked) the whole face is wet from any depth. A double
+    # where: depth / sin(0) made the value and every gradient NaN (a review, stop 48)
+    wet, sin_t = jnp.maximum(depth, 0.0), jnp.sin(tilt)
+    tilted = sin_t > 0.0
+    s = jnp.where(tilted, wet / jnp.where(tilted, sin_t, 1.0), jnp.where(wet > 0.0, 2.0 * stone.size, 0.0))
     if stone.shape == "square":
         return stone.size * jnp.minimum(s, stone.size)
     R = stone.size
@@ -349,7 +353,8 @@ def reduced_throw(speed, tilt, attack, stone: ReducedStone | None = None, *, c_l
     shape B, and every field of the :class:`ReducedResult` gets B as leading axes (``jax.vmap`` over
     scalars gives the same). Concrete values are checked elementwise before tracing (finite, in range,
     net lift) and refused with :class:`~jaxskip.ParameterError`; traced values (inside ``jit``,
-    ``vmap``, ``grad``) are used as given, and a traced tilt without net lift (C <= 0) gives 0 bounces.
+    ``vmap``, ``grad``) are used as given: a traced tilt without net lift (C <= 0) gives 0 bounces, and one
+    at or below 0 (the whole face wet at once, its trailing edge's depth for sinking 0) sinks in the first contact.
     The other arguments must be concrete.
 
     >>> r = reduced_throw(jnp.array([4.0, 8.0]), math.radians(10.0), math.radians(1.0), max_contacts=8)

@@ -82,6 +82,7 @@ water, :math:`n_i\cdot w(r) > 0` (linear over the face: the wet part cut once mo
 from __future__ import annotations
 
 import dataclasses
+import types
 
 import jax
 import jax.numpy as jnp
@@ -199,11 +200,17 @@ class WaterParams:
 # that evidence does not hold today: 12 free throws of the paper stone at 5 m/s (tilt 10/20, attack
 # 2/5/10 deg, 10/20 rev/s) make 1-40 bounces with C_f = 0.1, 5 still planing 24.6 m out at the 5 s
 # limit and 7 flipping within 0.5-3.2 m, and 1-48 with C_l = C_f = 1.
-DEFAULT_COEFFICIENTS = {
-    "seed": dict(c_lift=1.0, c_friction=0.1),
-    "bocquet": dict(c_lift=1.0, c_friction=0.3),
-}
+# (read-only, inner tables too: water_params reads them at each call, so an edit here changed every later default;
+# a review, stop 48)
+DEFAULT_COEFFICIENTS = types.MappingProxyType({
+    "seed": types.MappingProxyType(dict(c_lift=1.0, c_friction=0.1)),
+    "bocquet": types.MappingProxyType(dict(c_lift=1.0, c_friction=0.3)),
+})
 
+
+#: Rounding units of the speeds at a face's vertices within which ``velocity="passive"`` takes a vertex's normal
+#: speed n.w for 0 (:func:`_passive_triangles`): 1024, as :func:`jaxskip.clipping.surface_tolerance` for heights.
+GATE_ROUNDING = 1024.0
 
 #: Largest lift or friction coefficient :func:`water_params` accepts (dimensionless).
 COEFFICIENT_MAX = 10.0
@@ -354,7 +361,11 @@ def vertex_heights(stone, position, R, surface):
     if surface is flat_surface:
         return z
     tri, _ = world_triangles(stone, position, R)
-    return z - surface(tri[..., 0], tri[..., 1])
+    h = surface(tri[..., 0], tri[..., 1])
+    if jnp.shape(h) not in ((), jnp.shape(z)):   # (static; one of another shape was broadcast in silence: a review)
+        raise ParameterError(f"surface(x, y) must return the water height [m] at each point, an array of the shape of "
+                             f"x and y, here {jnp.shape(z)} (or one number for level water); got shape {jnp.shape(h)}")
+    return z - h
 
 
 def body_triangle_forces(model: ForceModel, params: WaterParams, stone, position, R, velocity, omega, surface):
@@ -456,6 +467,12 @@ def _passive_triangles(model: ForceModel, params: WaterParams, stone, position, 
     if model.sharpness is None:
         own = V[None, None, :] + jnp.cross(spin[None, None, :], stone.triangles)       # (F, 3, 3) at the vertices
         gate = jnp.sum(stone.normals[:, None, :] * own, axis=-1)
+        # Normal speeds within rounding of 0 are 0 (the face moves along itself there), as heights within
+        # surface_tolerance are: a flat face sliding along the water had n.w of ~1e-15 m/s of either sign at its
+        # vertices, and the cut by g = 0 divided that noise by noise (gradients of 1e12-1e16 where the body law
+        # gives 1e1-1e4; a review, stop 48). Rounding is relative to the speeds summed, |V| + |Omega| R.
+        noise = GATE_ROUNDING * jnp.finfo(gate.dtype).eps * (jnp.max(jnp.abs(V)) + jnp.max(jnp.abs(spin)) * stone.radius)
+        gate = jnp.where(jnp.abs(gate) <= noise, 0.0, gate)
         into, into_moment = jax.vmap(clipping.gated_moment_from_heights)(stone.triangles, zeta, gate)
     else:
         n_w = jnp.sum(stone.normals * (V[None, :] + jnp.cross(spin[None, :], centroid)), axis=-1)

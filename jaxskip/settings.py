@@ -9,14 +9,17 @@ description.
 from __future__ import annotations
 
 import os
+import types
 
 from ._checks import ParameterError
 
 #: The simulation flags' values when not given (``stone`` and ``attitude``: ``jaxskip throw``'s).
 #: ``max_steps`` None: enough steps to spend ``duration`` in the water at ``dt``.
-SIM_DEFAULTS = {"stone": "paper", "mass": None, "density": None, "force_law": "bocquet", "c_lift": None,
-                "c_friction": None, "velocity": "body", "attitude": "free", "integrator": "euler", "dt": 2.5e-4,
-                "duration": 5.0, "max_steps": None, "bounce_clearance": 1e-3}
+#: Read-only (every command reads it for its defaults).
+SIM_DEFAULTS = types.MappingProxyType({
+    "stone": "paper", "mass": None, "density": None, "force_law": "bocquet", "c_lift": None, "c_friction": None,
+    "velocity": "body", "attitude": "free", "integrator": "euler", "dt": 2.5e-4, "duration": 5.0, "max_steps": None,
+    "bounce_clearance": 1e-3})
 
 
 def simulation(*, stone, mass, density, force_law, c_lift, c_friction, velocity, attitude, integrator, dt, duration,

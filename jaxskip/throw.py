@@ -191,6 +191,20 @@ def _checked(speed, tilt, attack, spin, height, heading, slack: float = 0.0) -> 
     )
 
 
+def in_domain(throw: "Throw"):
+    """A boolean array of ``throw``'s batch shape: True where every field is finite and inside the ranges that
+    :meth:`Throw.create` checks (SI: speed in (0, :data:`MAX_SPEED`], tilt in (-π/2, π/2), attack in [-π/2, π/2],
+    spin within ±:data:`MAX_SPIN`, height in [0, :data:`MAX_HEIGHT`], heading within ±:data:`MAX_HEADING`).
+    Traceable: the check of a throw that cannot be checked before tracing (``optimize.make_objective`` scores a
+    throw outside it NaN; :meth:`Throw.check` refuses a concrete one by name)."""
+    pi2 = math.pi / 2
+    fields = [jnp.asarray(getattr(throw, f.name)) for f in dataclasses.fields(throw)]
+    finite = jnp.all(jnp.stack([jnp.isfinite(a) for a in fields]), axis=0)
+    return (finite & (throw.speed > 0.0) & (throw.speed <= MAX_SPEED) & (jnp.abs(throw.tilt) < pi2)
+            & (jnp.abs(throw.attack) <= pi2) & (jnp.abs(throw.spin) <= MAX_SPIN) & (throw.height >= 0.0)
+            & (throw.height <= MAX_HEIGHT) & (jnp.abs(throw.heading) <= MAX_HEADING))
+
+
 def attitude(tilt, heading):
     """Quaternion (4,) of a stone tilted by ``tilt`` [rad] (leading edge up) and turned by ``heading`` [rad].
 

@@ -57,7 +57,10 @@ stiffest mode of the isotropic stencil is the checkerboard, with
 the stiffest mode just below the endless checkerboard's frequency), but modes near it swing to many
 times their start: a 16 × 16 checkerboard of 1 µm peaked at 34 µm at the bound over :math:`10^5`
 steps (28–32 µm read every 1000 steps, the test's sampling) without growing further, against 4.7 µm
-(3 µm every 1000 steps) at the default ``cfl`` of 0.5 (tested; measured 2026-12-06 by a review). The pipes'
+(3 µm every 1000 steps) at the default ``cfl`` of 0.5 (tested; measured 2026-12-06 by a review). The swing
+grows with the grid: 25 / 124 / 459 µm on closed 16² / 64² / 256² grids at the bound (the last over 5000 steps),
+and random noise grew 7 / 10 / 13× (a review, stop 48); 1.001× the bound already grows on 64² and 256² grids
+until the clamp holds it near the depth. The pipes'
 cross-sections use the rest depth :math:`H` (the scheme is linear in the heights), so the bound holds
 whatever the local depth; :class:`WaterGrid` holds ``dt`` to
 ``cfl`` (default 0.5) of the bound at the rest depth and refuses a ``dt`` beyond

@@ -23,13 +23,14 @@ from jaxskip import Throw
 from jaxskip._checks import ParameterError, check_real
 from jaxskip._docs import document_fields
 
-#: Physical limits of each throw parameter in user units: (low, high, unit).
-LIMITS = {
+#: Physical limits of each throw parameter in user units: (low, high, unit). Read-only (make_box reads it at each
+#: call: widening it let every later box through; a review, stop 48).
+LIMITS = types.MappingProxyType({
     "speed": (0.1, 50.0, "m/s"),
     "tilt": (-89.0, 89.0, "deg"),
     "attack": (0.0, 89.0, "deg"),
     "spin": (0.0, 200.0, "rev/s"),
-}
+})
 #: The parameters a search may vary, in this order.
 PARAMETERS = tuple(LIMITS)
 #: The user's box of issue 4: a human throw (speed 3-12 m/s, tilt 5-45 deg, attack 0-30 deg, spin 0-20 rev/s).

@@ -61,9 +61,10 @@ import jax
 import jax.numpy as jnp
 
 from jaxskip import RigidStone, SimConfig, StoneState, Throw, WaterParams
+from jaxskip.throw import in_domain
 from jaxskip._checks import ParameterError, check_range
 from jaxskip.simulate import (DIVERGED, MAX_BOUNCE_CLEARANCE, Record, _check_concrete, _check_rollout_args, _one_float_type,
-                              _scan, initial_carry, initial_state, make_step, rollout)
+                              _one_throw, _scan, initial_carry, initial_state, make_step, rollout)
 
 #: Default clearance level [m]: the tracker's ``SimConfig.bounce_clearance``.
 CLEARANCE = 1e-3
@@ -184,7 +185,8 @@ def make_objective(kind: str, config: SimConfig, stone: RigidStone, water: Water
     ``f`` takes one :class:`jaxskip.Throw` (SI, shape ()) and returns a scalar (bounces [-] or
     distance [m]); pure and differentiable, jit/vmap/grad-able; nothing per step is stored
     (``config.record`` is ignored). Traced throws cannot be checked before the run, so ``f`` returns NaN for a
-    throw with a non-finite value or a speed not above 0 (its gradient 0: the default throw runs in its place),
+    throw with a non-finite value or one outside :meth:`jaxskip.Throw.create`'s ranges, such as a speed not above
+    0 or a tilt beyond ±90° (:func:`jaxskip.throw.in_domain`; its gradient 0: the default throw runs in its place),
     and for one whose integration diverged (its gradient may be NaN): a bad point is not scored as 0 bounces (a
     review, stop 46: a NaN speed under ``jit(vmap(...))`` gave 0.0 with NaN gradients).
     """
@@ -199,9 +201,11 @@ def make_objective(kind: str, config: SimConfig, stone: RigidStone, water: Water
     config = dataclasses.replace(config, record=False)
 
     def f(throw: Throw):
+        if not isinstance(throw, Throw):
+            raise ParameterError(f"the objective of make_objective takes a jaxskip.Throw, got {type(throw).__name__}")
+        _one_throw(f"the objective of make_objective({kind!r}, ...)", throw)   # (it named soft_bounce_rollout)
         _check_concrete(throw)   # (a concrete bad throw is refused by name, as rollout refuses it; a traced one: NaN)
-        leaves = jax.tree_util.tree_leaves(throw)
-        valid = jnp.all(jnp.stack([jnp.all(jnp.isfinite(a)) for a in leaves])) & (throw.speed > 0.0)
+        valid = in_domain(throw)   # (finite and in Throw.create's ranges: a tilt of 3 rad scored 0 bounces)
         # A bad throw is swapped for the default one before the run (the double-where: the run's backward pass
         # would multiply NaN Jacobians by the zero cotangent), so its gradient is 0, its value NaN below.
         throw = jax.tree_util.tree_map(lambda a, d: jnp.where(valid, a, jnp.asarray(d, jnp.result_type(a))), throw,

@@ -54,6 +54,7 @@ import json
 import math
 import numbers
 import os
+import types
 import sys
 import time
 import warnings
@@ -79,7 +80,7 @@ from ._runs import batch, caller_level, silenced_batches, warn_diverged, warn_st
 from .bounds import check_interval
 
 #: Clanet et al.'s reference throw (physics.md §4).
-REFERENCE = {"speed": 3.5, "spin": 65.0, "tilt": 20.0, "attack": 20.0}
+REFERENCE = types.MappingProxyType({"speed": 3.5, "spin": 65.0, "tilt": 20.0, "attack": 20.0})
 #: A sweep is cut into about this many chunks by default (fewer if it is small): enough to resume
 #: and to shard, few enough to keep each chunk's batch wide (one chunk per tilt made a 12-tilt
 #: U_min sweep 2x slower, measured).
@@ -93,12 +94,12 @@ MAX_BISECTIONS = 40
 #: are :meth:`jaxskip.Throw.from_degrees`' (speed up to :data:`jaxskip.throw.MAX_SPEED`, spin up to
 #: :data:`jaxskip.throw.MAX_SPIN_REVS`); :func:`make_spec` checks them and ``jaxskip sweep --help`` shows them
 #: (:func:`limit_text`).
-THROW_LIMITS = {
+THROW_LIMITS = types.MappingProxyType({
     "speed": (0.0, MAX_SPEED, True, False, "m/s"),
     "tilt": (-90.0, 90.0, True, True, "degrees"),
     "attack": (-90.0, 90.0, False, False, "degrees"),
     "spin": (-MAX_SPIN_REVS, MAX_SPIN_REVS, False, False, "rev/s"),
-}
+})
 #: The lists of numbers each kind's chunk file holds, one entry per work item: counts (non-negative
 #: integers) and values (finite numbers or null).
 CHUNK_COUNTS = {"domain": ("bounces", "diverged", "cut_off"),
@@ -276,8 +277,9 @@ def make_spec(kind: str, *, tilts, attacks=(REFERENCE["attack"],), speed: float 
     if kind not in ("domain", "umin"):
         raise ParameterError(f"kind must be 'domain' or 'umin', got {kind!r}")
     unknown = set(sim) - set(SIM_DEFAULTS)
-    if unknown:
-        raise TypeError(f"make_spec() got unexpected keyword arguments: {', '.join(sorted(unknown))}")
+    if unknown:   # (a TypeError before: a ParameterError, as every other bad argument here; a review)
+        raise ParameterError(f"make_spec() got unknown simulation settings: {', '.join(sorted(unknown))}; they are "
+                             f"{', '.join(SIM_DEFAULTS)}")
     tilts = _angles("tilts", tilts)
     attacks = _angles("attacks", attacks)
     if kind == "umin" and len(attacks) != 1:

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from jaxskip import ParameterError, SimConfig, Throw, clanet_disk, rigid_stone, rollout_jit, water_params
-from jaxskip.bocquet import ReducedStone, collision_length, estimated_bounces, immersed_area, reduced_throw
+from jaxskip.bocquet import OUTCOMES, ReducedStone, collision_length, estimated_bounces, immersed_area, reduced_throw
 
 
 @pytest.mark.parametrize("speed,tilt,attack", [(2.5, 20, 20), (3.5, 20, 20), (5.0, 20, 10), (8.0, 20, 5),
@@ -154,6 +154,23 @@ def test_tilt_without_net_lift_is_refused_naming_the_limit():
     with pytest.raises(ParameterError, match=r"1\.27934 rad \(73\.3 deg\)"):
         reduced_throw(8.0, math.radians(75.0), 0.02, c_friction=0.3, max_contacts=2)
     assert int(reduced_throw(8.0, math.radians(50.0), math.radians(2.0), c_friction=0.3).bounces) > 0
+
+
+def test_a_traced_tilt_of_zero_sinks_with_finite_gradients():
+    """(stop 48, a review) A traced tilt is not checked, and at 0 the wetted length depth / sin(tilt) was 0 / 0: the
+    value and every gradient NaN, for the square and the disk. Now the whole face is wet at once and the stone sinks
+    in its first contact (0 bounces), gradients finite; just above 0 the immersed area is continuous."""
+    for shape in ("square", "disk"):
+        stone = ReducedStone(shape=shape)
+        area, grads = jax.value_and_grad(lambda d, t: immersed_area(stone, d, t), argnums=(0, 1))(0.01, 0.0)
+        assert float(area) > 0.0 and all(np.isfinite(float(g)) for g in grads), (shape, area, grads)
+        assert float(immersed_area(stone, 0.0, 0.0)) == 0.0
+        tiny = float(immersed_area(stone, 0.01, 1e-9))
+        assert tiny == pytest.approx(float(area), rel=1e-12)
+        r = jax.jit(lambda t: reduced_throw(8.0, t, math.radians(1.0), stone=stone, max_contacts=4))(0.0)
+        assert int(r.bounces) == 0 and OUTCOMES[int(r.outcome)] == "sank", (shape, r)
+        g = jax.grad(lambda t: reduced_throw(8.0, t, math.radians(1.0), stone=stone, max_contacts=4).distance)(0.0)
+        assert np.isfinite(float(g)), (shape, g)
 
 
 def test_estimated_bounces_checks_its_inputs():

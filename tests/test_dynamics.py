@@ -247,6 +247,9 @@ def test_a_flight_jump_over_a_swell_lands_where_fine_steps_do(paper, water):
         rollout_jit(config, throw, paper, water, surface=swell)
     with pytest.raises(ParameterError, match=r"max_slope must be in \[0, 1000\] m/m, got -1"):
         rollout_jit(config, throw, paper, water, surface=swell, max_slope=-1.0)
+    # (stop 48, a review) a surface of the wrong shape was broadcast over each triangle's vertices in silence
+    with pytest.raises(ParameterError, match=r"surface\(x, y\) must return .* here \(38, 3\) .*got shape \(3,\)"):
+        rollout_jit(config, throw, paper, water, surface=lambda x, y: jnp.array([0.01, 0.0, -0.01]), max_slope=0.0)
     starts = {}
     for flight, slope in (("jump", 0.63), ("step", None)):
         cfg = dataclasses.replace(config, flight=flight)

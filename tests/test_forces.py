@@ -485,3 +485,31 @@ def test_body_frame_kernel_is_rotation_invariant(paper):
     np.testing.assert_allclose(Fb @ R.T, Fw, rtol=0, atol=1e-12 * np.abs(Fw).max())
     np.testing.assert_allclose(cb @ R.T + pos, cw, rtol=0, atol=1e-14)
     np.testing.assert_array_equal(Sb, Sw)
+
+
+def test_passive_gate_ignores_rounding_of_a_face_sliding_along_the_water():
+    """(stop 48, a review) A flat face sliding along the water (normal speed n.w = 0) got the rounding of its
+    vertices' n.w, ~1e-15 m/s of either sign, as its gate, and the cut by g = 0 divided that noise by noise: the
+    Clanet disk lying flat at 8 m/s had d(force)/d(velocity) 10.9 with v_z = -1e-14 m/s and -0.049 with 0 or
+    +1e-14. Normal speeds within rounding of 0 are 0 now: the force and its gradient do not see 1e-14 m/s."""
+    from jaxskip import clanet_disk, quaternion as quat, rigid_stone, water_params
+    from jaxskip.forces import body_water_load
+    from jaxskip.throw import attitude
+
+    disk = rigid_stone(clanet_disk(), density=2650.0)
+    model, water = ForceModel(velocity="passive"), water_params()
+    R = quat.to_matrix(attitude(jnp.array(0.0), jnp.array(0.0)))
+    position = jnp.array([0.0, 0.0, float(disk.thickness) / 2 - 1e-4])   # the bottom face 0.1 mm under
+
+    def load(v):
+        f, tau, _ = body_water_load(model, water, disk, position, R, v, jnp.zeros(3), flat_surface)
+        return jnp.sum(f) + jnp.sum(tau)
+
+    grad = jax.jit(jax.value_and_grad(load))
+    runs = [grad(jnp.array([8.0, 0.0, vz])) for vz in (0.0, -1e-14, 1e-14)]
+    for value, g in runs[1:]:
+        np.testing.assert_allclose(float(value), float(runs[0][0]), rtol=1e-12)
+        np.testing.assert_allclose(np.asarray(g), np.asarray(runs[0][1]), rtol=1e-9, atol=1e-12)
+    # a real normal speed still decides: 1 mm/s into the water loads the face, 1 mm/s out of it does not
+    into, out = (float(load(jnp.array([8.0, 0.0, vz]))) for vz in (-1e-3, 1e-3))
+    assert abs(into - out) > 1.0

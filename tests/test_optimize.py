@@ -785,8 +785,12 @@ def test_an_objective_is_nan_for_a_bad_or_diverged_throw_not_zero(paper, water):
 
     config = SimConfig(record=False, max_steps=2000)
     base = Throw.from_degrees(speed=6.0)
+    # finite but outside Throw.create's ranges too (stop 48, a review: a tilt of 3 rad scored 0 bounces, the stone
+    # flipping at once, and an optax loop stepping past 90 deg saw a real point)
     throws = jax.tree_util.tree_map(lambda *a: jnp.stack(a), base, dataclasses.replace(base, speed=jnp.nan),
-                                    dataclasses.replace(base, speed=-3.0), dataclasses.replace(base, tilt=jnp.inf))
+                                    dataclasses.replace(base, speed=-3.0), dataclasses.replace(base, tilt=jnp.inf),
+                                    dataclasses.replace(base, tilt=3.0), dataclasses.replace(base, attack=-2.0),
+                                    dataclasses.replace(base, height=-0.01), dataclasses.replace(base, speed=101.0))
     light = rigid_stone(paper_stone(), density=100.0)     # 100 m/s flat at 0.25 ms: the integration diverges
     fast = Throw.from_degrees(speed=100.0, attack=0.0)
     for kind in ("bounces", "distance"):
@@ -799,3 +803,5 @@ def test_an_objective_is_nan_for_a_bad_or_diverged_throw_not_zero(paper, water):
         for g in jax.tree_util.tree_leaves(grads):
             assert np.all(np.asarray(g)[1:] == 0.0), (kind, grads)
         assert np.isnan(float(jax.jit(make_objective(kind, config, light, water))(fast))), kind
+        with pytest.raises(ParameterError, match=r"the objective of make_objective\('%s', ...\) takes one throw" % kind):
+            f(throws)   # (a batch: the message named soft_bounce_rollout, which the user never called)

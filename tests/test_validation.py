@@ -1129,3 +1129,21 @@ def test_the_cli_defaults_are_simconfigs():
     shared = {k for k in SIM_DEFAULTS if k in fields and SIM_DEFAULTS[k] is not None}
     assert {"dt", "duration", "attitude", "integrator", "bounce_clearance"} <= shared
     assert {k: SIM_DEFAULTS[k] for k in shared} == {k: getattr(SimConfig(), k) for k in shared}
+
+
+def test_the_module_tables_a_call_reads_are_read_only():
+    """(stop 48, a review) ``water_params`` reads DEFAULT_COEFFICIENTS, ``make_box`` LIMITS, the commands
+    SIM_DEFAULTS and the sweeps REFERENCE and THROW_LIMITS at each call: an edit to one (``c_lift`` set to 5, the
+    tilt limit widened to 170 deg) changed every later default or check in the process. They cannot be edited."""
+    from jaxskip.forces import DEFAULT_COEFFICIENTS
+    from jaxskip.settings import SIM_DEFAULTS
+    from optimize.bounds import LIMITS
+    from optimize.sweep import REFERENCE, THROW_LIMITS, make_spec
+
+    for table, key in ((DEFAULT_COEFFICIENTS, "bocquet"), (DEFAULT_COEFFICIENTS["bocquet"], "c_lift"),
+                       (LIMITS, "tilt"), (SIM_DEFAULTS, "dt"), (REFERENCE, "spin"), (THROW_LIMITS, "tilt")):
+        with pytest.raises(TypeError):
+            table[key] = None
+    assert float(water_params().c_lift) == 1.0
+    with pytest.raises(ParameterError, match=r"unknown simulation settings: dtt; they are stone, mass, .*dt"):
+        make_spec("umin", tilts=[20.0], dtt=1e-4)   # (a bare TypeError before)
