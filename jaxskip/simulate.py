@@ -42,6 +42,7 @@ from __future__ import annotations
 import dataclasses
 import functools
 import math
+import types
 import warnings
 
 import jax
@@ -271,7 +272,9 @@ def contact_step_bound(stone: RigidStone, water: WaterParams, speed) -> float:
     0.0625 ms): no throw gained speed where :math:`\Delta t \le \Delta t^*`; the first gains came at
     :math:`\Delta t/\Delta t^*` = 1.09-1.75 for the thin disks and 2.4-4.6 for the paper stone (a
     conservative bound for compact stones). The default paper stone at the default 0.25 ms is within it
-    up to 64 m/s.
+    up to 64 m/s. But speed is not the whole story: with semi-implicit Euler the stone gains energy in its
+    rotation (a wobble) and changes its outcome well inside the estimate, so :func:`warn_if_unstable` holds
+    each integrator to its own fraction of it (:data:`STABLE_FRACTION`: a quarter for Euler, the whole for RK4).
 
     >>> from jaxskip import paper_stone, rigid_stone, water_params
     >>> stone = rigid_stone(paper_stone(), density=2650.0)
@@ -286,24 +289,44 @@ def contact_step_bound(stone: RigidStone, water: WaterParams, speed) -> float:
     return math.inf if rate == 0.0 else 1.0 / rate
 
 
+#: The fraction of :func:`contact_step_bound` within which each integrator's contact step is held
+#: (:func:`warn_if_unstable`). Measured (a review and a calibration, stop 48; float64, 0.5 s throws, 20 random
+#: throws per cell: tilt 5-45°, attack 0-20°, spin 0-40 rev/s, at 10 / 20 / 40 / 60 m/s, for the paper stone at
+#: 2650 / 1000 / 300 kg/m³ and a 5 cm × 0.5 mm disk at 2650 / 500 kg/m³, against the same integrator at an
+#: eighth of the estimate): with Euler, the share of throws whose peak energy passed the reference's by 5 % was
+#: at its floor (0-5 %, as between an eighth and a sixteenth) at a quarter of the estimate, 9-10 % at a half,
+#: 13-22 % at 0.7 and 18-51 % at 1 (thin disks: 35-65 %, a 90th-percentile rise near 50 %); the median distance
+#: error 0.4-0.8 / 1.2-1.8 / 1.8-3.5 / 4.5-7.8 % against a 0.15 % floor. One thin disk (500 kg/m³, 40 m/s, tilt
+#: 10°, attack 5°, 20 rev/s; estimate 0.062 ms) makes 1 bounce and sinks up to 0.4 of it, 2 at 0.5, and 19 at
+#: 0.8, its energy rising 1.58 → 2.32 J (tested). RK4 gained no energy up to the whole estimate (its distances
+#: 0.4 / 1 / 1.5-3 % off at 0.25 / 0.5 / 1 of it: truncation, not instability).
+STABLE_FRACTION = types.MappingProxyType({"euler": 0.25, "rk4": 1.0})
+
+
 def warn_if_unstable(config: "SimConfig", stone: RigidStone, water: WaterParams, speed, height,
                      stacklevel: int = 3) -> None:
     r"""Issue a :class:`StabilityWarning` (an :class:`AccuracyWarning`) if the free stone's contact step ``config.dt`` exceeds
-    :func:`contact_step_bound` at the fastest it can meet the water (``speed`` [m/s] and release
-    ``height`` [m], arrays of a batch's throws: :math:`\max \sqrt{V^2 + 2 g h}`), unless ``dt`` is
-    above :data:`ACCURATE_DT` and the bound is not below it (:func:`warn_if_coarse` then already asks
-    for a step that is stable)."""
+    its integrator's :data:`STABLE_FRACTION` (Euler a quarter, RK4 the whole) of :func:`contact_step_bound` at the
+    fastest it can meet the water (``speed`` [m/s] and release ``height`` [m], arrays of a batch's throws:
+    :math:`\max \sqrt{V^2 + 2 g h}`), unless ``dt`` is above :data:`ACCURATE_DT` and that limit is not below it
+    (:func:`warn_if_coarse` then already asks for a step that is stable)."""
     if config.attitude == "fixed":
         return
     fastest = float(np.max(np.sqrt(np.asarray(speed, np.float64) ** 2
                                    + 2.0 * float(water.gravity) * np.maximum(np.asarray(height, np.float64), 0.0))))
     bound = contact_step_bound(stone, water, fastest)
-    # (beyond ACCURATE_DT, warn_if_coarse already asks for dt <= ACCURATE_DT: enough where the bound is above it)
-    if config.dt > bound and not (config.dt > ACCURATE_DT and bound >= ACCURATE_DT):
-        warnings.warn(f"dt = {config.dt * 1e3:g} ms is longer than this stone's contact-step stability estimate, "
-                      f"{bound * 1e3:.3g} ms at {fastest:.3g} m/s (contact_step_bound of the module jaxskip.simulate): a light, "
-                      f"thin or fast stone can then gain energy in contact; take dt <= {bound * 1e3:.3g} ms",
-                      StabilityWarning, stacklevel=stacklevel)
+    fraction = STABLE_FRACTION[config.integrator]
+    limit = fraction * bound
+    # (beyond ACCURATE_DT, warn_if_coarse already asks for dt <= ACCURATE_DT: enough where the limit is above it)
+    if config.dt > limit and not (config.dt > ACCURATE_DT and limit >= ACCURATE_DT):
+        of = "" if fraction == 1.0 else f"{fraction:g} of "
+        rk4 = (f" (or integrator='rk4', held to the whole estimate: dt <= {bound * 1e3:.3g} ms)"
+               if config.integrator == "euler" and config.dt <= bound else "")
+        warnings.warn(f"dt = {config.dt * 1e3:g} ms is longer than {of}this stone's contact-step stability estimate "
+                      f"for integrator='{config.integrator}', {limit * 1e3:.3g} ms ({bound * 1e3:.3g} ms at {fastest:.3g} "
+                      f"m/s: contact_step_bound of the module jaxskip.simulate, and STABLE_FRACTION): a light, thin or "
+                      f"fast stone can then gain energy in contact and change its outcome; take dt <= "
+                      f"{limit * 1e3:.3g} ms{rk4}", StabilityWarning, stacklevel=stacklevel)
 
 
 def steps_for(duration: float, dt: float, multiple: int = 250) -> int:

@@ -208,11 +208,15 @@ def test_a_stone_planing_for_the_whole_duration_ends_by_the_time_limit(paper, wa
 
 def test_memoised_stone_and_water_follow_the_public_dicts(monkeypatch):
     """simulate() memoises built-in stones and default water constants; a stone registered again under
-    its name in BUILTIN_STONES, or new default coefficients, are used, not the memo (simulate kept the old
-    stone, and kept c_lift 1.0 while simulate_batch used the new 0.5)."""
+    its name in BUILTIN_STONES is used, not the memo (simulate kept the old stone). The default coefficients
+    are read-only since stop 48 (test_validation.py, test_the_module_tables_a_call_reads_are_read_only): a whole
+    table put in their place is followed by simulate and simulate_batch alike (simulate kept c_lift 1.0 while
+    simulate_batch used a new 0.5)."""
     import functools
 
-    from jaxskip import forces, rigid_stone, stones
+    import types
+
+    from jaxskip import api, forces, rigid_stone, stones
 
     config = SimConfig(max_steps=400)
     throw = Throw.from_degrees(speed=7.0)
@@ -222,7 +226,10 @@ def test_memoised_stone_and_water_follow_the_public_dicts(monkeypatch):
     after = simulate(throw, "disk", config=config)
     assert after.mass == pytest.approx(float(rigid_stone(stones.disk(0.06, 0.01), density=stones.STONE_DENSITY).mass))
     assert after.mass > 2.0 * before.mass
-    monkeypatch.setitem(forces.DEFAULT_COEFFICIENTS, "bocquet", dict(c_lift=0.5, c_friction=0.3))
+    table = types.MappingProxyType({**forces.DEFAULT_COEFFICIENTS, "bocquet": types.MappingProxyType(
+        dict(c_lift=0.5, c_friction=0.3))})
+    for module in (forces, api):   # (api reads it by its own name)
+        monkeypatch.setattr(module, "DEFAULT_COEFFICIENTS", table)
     one = simulate(throw, config=config)
     many = simulate_batch(Throw.from_degrees(speed=[7.0]), config=config)
     assert float(one.water.c_lift) == 0.5

@@ -542,7 +542,7 @@ def test_the_bounce_objective_checks_and_casts_as_rollout_does(paper, water):
     f = make_objective("bounces", config, stone32, water32)
     assert float(f(throw32)) == float(make_objective("bounces", config, f64(stone32), f64(water32))(f64(throw32)))
     g = make_objective("bounces", config, paper, water)
-    with pytest.raises(ParameterError, match="rollout takes one throw"):
+    with pytest.raises(ParameterError, match=r"the objective of make_objective\('bounces', ...\) takes one throw"):
         g(Throw.from_degrees(speed=np.array([6.0, 8.0])))
     # the user's own loop (README: "your own loop"): a float32 throw and stone step in float64 too
     step = make_step(config)
