@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import os
 
 import numpy as np
 
@@ -278,6 +279,7 @@ def plot_water(result, stone=None, path=None, *, frame=None):
     stone = _check_stone(stone, result)
     frames = field["frames"]
     depth = field["depth"]
+    chosen = frame is None
     if frame is None:
         frame = int(np.argmax([np.abs(f[2] - depth).max() for f in frames]))
     else:
@@ -298,7 +300,9 @@ def plot_water(result, stone=None, path=None, *, frame=None):
         ax.fill(f[:, 0], f[:, 1], color="0.35", alpha=0.5, lw=0)
     ax.set_xlabel("x [m]")
     ax.set_ylabel("y [m]")
-    ax.set_title(f"surface at t = {t:.3f} s (±{lim:.2g} mm, clipped; shaded)", fontsize=10)
+    # (a review: the default frame's moment, mid-throw, said nothing of why it was drawn)
+    why = f" of {float(frames[-1][0]):.3f} s, the most disturbed moment" if chosen else ""
+    ax.set_title(f"surface at t = {t:.3f} s{why} (±{lim:.2g} mm, clipped; shaded)", fontsize=10)
     sm = plt.cm.ScalarMappable(cmap="RdBu_r", norm=plt.Normalize(-lim, lim))
     fig.colorbar(sm, ax=ax, label="elevation [mm]", shrink=0.8)
 
@@ -323,7 +327,7 @@ def plot_water(result, stone=None, path=None, *, frame=None):
     exaggeration = box_z * (xs[-1] - xs[0]) / z_span
     ax3.set_xlabel("x [m]", labelpad=6)
     ax3.set_ylabel("y [m]", labelpad=8)
-    ax3.set_zlabel(f"z [mm] (vertical ×{exaggeration:.0f})", labelpad=6)
+    ax3.set_zlabel(f"z [mm] (drawn ×{exaggeration:.0f} tall)", labelpad=6)
     ax3.set_title(f"the same moment in 3-D; throw: {plural(result.bounces, 'bounce')} in all; window {nx}×{ny}, "
                   f"{field['spacing'] * 100:.3g} cm columns\n(surface clipped at ±{cap:.2g} mm, twice the colour "
                   "scale)", fontsize=10)
@@ -390,7 +394,7 @@ def _check_field(result):
     return result.field
 
 
-def animate_throw(result, stone, path, *, fps: int = 20):
+def animate_throw(result, stone, path=None, *, fps: int = 20):
     """Write an animation (GIF by extension ``.gif``) of the stone over the water, one frame per snapshot, and in a
     long flight (a gap between snapshots over :data:`LONG_GAP` times their spacing in contact) frames of the stone
     along its arc over the water of the snapshot before (the title says so), :data:`GAP_FRAMES` at most.
@@ -414,6 +418,9 @@ def animate_throw(result, stone, path, *, fps: int = 20):
 
     from ._checks import ParameterError, check_range
 
+    if isinstance(stone, (str, os.PathLike)) and str(stone).lower().endswith(".gif"):   # (a raw TypeError before)
+        raise ParameterError(f"animate_throw(result, stone, path): the path came second, as the stone ({stone!r}); "
+                             f"give animate_throw(result, None, {str(stone)!r}) (None: the result's own stone)")
     if not str(path).lower().endswith(".gif"):
         raise ParameterError(f"the animation path must end in .gif, got {path!r}")
     check_file_path("path", path)
@@ -428,6 +435,9 @@ def animate_throw(result, stone, path, *, fps: int = 20):
     wet = _in_contact(result, times)
     heading = float(result.throw.heading)
     down = _throw_frame(pos, heading)[0]
+    # heights in cm, or in m for a throw that flies over 2 m high (released 100 m up it read 0-10000 cm; a review)
+    scale, unit = (100.0, "cm") if float(np.abs(pos[:, 2]).max()) <= 2.0 else (1.0, "m")
+    floor = 2.0 / (100.0 / scale)    # the view's least extent above and below the water: 2 cm
     fig, (top, side) = plt.subplots(1, 2, figsize=(11, 4.2), width_ratios=[1, 1.3], layout="constrained")
     sm = plt.cm.ScalarMappable(cmap="RdBu_r", norm=plt.Normalize(-lim, lim))
     fig.colorbar(sm, ax=top, label="elevation [mm]", shrink=0.85, pad=0.02)
@@ -450,17 +460,17 @@ def animate_throw(result, stone, path, *, fps: int = 20):
         top.set_ylabel("y [m]")
         seen = times <= t
         side.axhline(0.0, color="#2f6fb0", lw=1.0)
-        side.plot(down[seen], pos[seen, 2] * 100, color="0.2", lw=1.0)
-        side.plot(np.where(seen & wet, down, np.nan), np.where(seen & wet, pos[:, 2] * 100, np.nan),
+        side.plot(down[seen], pos[seen, 2] * scale, color="0.2", lw=1.0)
+        side.plot(np.where(seen & wet, down, np.nan), np.where(seen & wet, pos[:, 2] * scale, np.nan),
                   color="#d1495b", lw=2.0)
         # (red only in contact, as the title says: it was red in the air too; a review)
         now = bool(_in_contact(result, np.array([t]))[0])
-        side.plot(_throw_frame(np.asarray(position)[None], heading)[0], [position[2] * 100], "o",
+        side.plot(_throw_frame(np.asarray(position)[None], heading)[0], [position[2] * scale], "o",
                   color="#d1495b" if now else "0.2")
         side.set_xlim(*_downrange_limits(down))
-        side.set_ylim(min(-2.0, pos[:, 2].min() * 100 - 0.5), max(pos[:, 2].max() * 115, 2.0))
+        side.set_ylim(min(-floor, pos[:, 2].min() * scale - floor / 4), max(pos[:, 2].max() * scale * 1.15, floor))
         side.set_xlabel("downrange [m] (along the heading)")
-        side.set_ylabel("centre of mass height [cm]")
+        side.set_ylabel(f"centre of mass height [{unit}]")
         side.set_title(f"the whole throw: {plural(result.bounces, 'bounce')}, {result.outcome.replace('_', ' ')} "
                        f"(red: in contact)", fontsize=9)
 

@@ -830,10 +830,11 @@ def total_volume(grid: WaterGrid, state: WaterState):
     return jnp.sum(state.height) * grid.spacing ** 2
 
 
-def _real_points(name: str, value):
+def _real_points(name: str, value, finite: bool = False):
     """``value`` as a JAX array of real numbers (a list or a traced value too); a string, a bool or an
     object array is refused with :class:`ParameterError` naming ``name`` (a list met ``x - origin`` as a
-    raw TypeError)."""
+    raw TypeError). ``finite``: a concrete value with a NaN or an infinity is refused too (a traced one cannot
+    be checked)."""
     if isinstance(value, (str, bytes)):
         raise ParameterError(f"{name} must be real numbers [m] (a number or an array), got {value!r}")
     try:
@@ -842,6 +843,9 @@ def _real_points(name: str, value):
         raise ParameterError(f"{name} must be real numbers (a number or an array), got {value!r:.60}") from None
     if not (jnp.issubdtype(arr.dtype, jnp.floating) or jnp.issubdtype(arr.dtype, jnp.integer)):
         raise ParameterError(f"{name} must be real numbers (a number or an array), got dtype {arr.dtype}")
+    # (NumPy's test: inside a trace a jnp operation on a concrete array is staged, and its result a tracer)
+    if finite and not isinstance(arr, jax.core.Tracer) and not np.all(np.isfinite(np.asarray(arr))):
+        raise ParameterError(f"{name} must be finite (no NaN or infinity), got {np.asarray(arr)!r:.80}")
     return arr
 
 
@@ -868,10 +872,11 @@ def height_at(grid: WaterGrid, height, x, y, origin=None):
     the shape of ``x`` [m]. Bad input raises :class:`ParameterError` naming it.
     """
     nx, ny = _check_grid(grid).shape
-    height = _real_points("height", height)
+    # (finite when concrete: a NaN height or point read NaN in silence, where the docstring promised an error)
+    height = _real_points("height", height, finite=True)
     if tuple(jnp.shape(height)) != grid.shape:
         raise ParameterError(f"height must have the grid's shape {grid.shape}, got {tuple(jnp.shape(height))}")
-    x, y = _real_points("x", x), _real_points("y", y)
+    x, y = _real_points("x", x, finite=True), _real_points("y", y, finite=True)
     if x.shape != y.shape:
         raise ParameterError(f"x and y must have one shape, got x {x.shape}, y {y.shape}")
     ox, oy = _origin_xy(grid, origin)
@@ -899,12 +904,15 @@ def deposit(grid: WaterGrid, x, y, value, origin=None, into=None):
     whole loop out of it: ``jaxskip/_xla.py``).
     """
     nx, ny = _check_grid(grid).shape
-    x, y, value = _real_points("x", x), _real_points("y", y), _real_points("value", value)
+    # (a NaN value wrote NaN into its 2 x 2 columns; a NaN point is dropped, below)
+    x, y, value = _real_points("x", x), _real_points("y", y), _real_points("value", value, finite=True)
     shapes = {name: tuple(jnp.shape(v)) for name, v in (("x", x), ("y", y), ("value", value))}
     if len(set(shapes.values())) != 1:
         raise ParameterError("x, y and value must have one shape, got " + ", ".join(f"{k} {v}" for k, v in shapes.items()))
     if into is not None and tuple(jnp.shape(into)) != grid.shape:  # (a wrong shape wrote to clamped columns)
         raise ParameterError(f"into must have the grid's shape {grid.shape}, got {tuple(jnp.shape(into))}")
+    if into is not None and not jnp.issubdtype(jnp.result_type(into), jnp.floating):   # (an int array truncated
+        raise ParameterError(f"into must be a floating array, got dtype {jnp.result_type(into)}")  # the weights to 0)
     ox, oy = _origin_xy(grid, origin)
     fx = jnp.ravel((x - ox) / grid.spacing)
     fy = jnp.ravel((y - oy) / grid.spacing)

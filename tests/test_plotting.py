@@ -239,7 +239,17 @@ def test_pictures_refuse_bad_arguments_by_name(held_disk):
     # result's own
     with pytest.raises(ParameterError, match="stone is not the stone this throw was simulated with"):
         plot_water(wet, rigid_stone(paper_stone(), density=2650.0))
-    plt.close(plot_water(wet, None))
+    fig = plot_water(wet, None)
+    # (stop 48, a review) the default frame says why it was drawn; the 3-D view's exaggeration is named as one
+    assert "the most disturbed moment" in fig.axes[0].get_title(), fig.axes[0].get_title()
+    assert "tall)" in [a for a in fig.axes if hasattr(a, "get_zlabel")][0].get_zlabel()
+    plt.close(fig)
+    fig = plot_water(wet, None, frame=0)
+    assert "most disturbed" not in fig.axes[0].get_title()
+    plt.close(fig)
+    with pytest.raises(ParameterError, match=r"the path came second, as the stone \('x.gif'\); give "
+                                             r"animate_throw\(result, None, 'x.gif'\)"):
+        animate_throw(wet, "x.gif")   # (a raw TypeError: a missing argument 'path')
     with pytest.raises(ParameterError, match="result must be a jaxskip ThrowResult .*got dict"):
         plot_throw({"trajectory": None})
     with pytest.raises(ParameterError, match=r"fps must be in \(0, 50\]"):

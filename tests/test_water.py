@@ -599,3 +599,25 @@ def test_water_review_2026_12_07(monkeypatch):
     assert runner._cache_size() == before and not weak.time.weak_type, (runner._cache_size(), before)
     with pytest.raises(ParameterError, match=r"dt must be at most .* s \(1e\+08 water steps"):
         water_substeps(g, 1e300)
+
+
+def test_height_at_and_deposit_refuse_what_they_would_silently_spoil():
+    """(stop 48, a review) height_at read NaN for a NaN height or point, where its docstring promised an error;
+    deposit wrote a NaN value into its 2 x 2 columns, and into an integer array truncated the weights (a value of
+    1 deposited 0, into a bool array 4). Each is refused, naming the argument; traced values pass (unchecked)."""
+    from jaxskip.water import deposit
+
+    grid = WaterGrid(shape=(8, 8), spacing=0.01, depth=0.02)
+    h = np.full(grid.shape, 0.02)
+    for kwargs, name in ((dict(height=np.full(grid.shape, np.nan), x=0.0, y=0.0), "height"),
+                         (dict(height=h, x=np.nan, y=0.0), "x"), (dict(height=h, x=0.0, y=np.inf), "y")):
+        with pytest.raises(ParameterError, match=f"{name} must be finite"):
+            height_at(grid, **kwargs)
+    with pytest.raises(ParameterError, match="value must be finite"):
+        deposit(grid, 0.025, 0.025, np.nan)
+    for dtype in (jnp.int32, jnp.bool_):
+        with pytest.raises(ParameterError, match="into must be a floating array"):
+            deposit(grid, 0.025, 0.025, 1.0, into=jnp.zeros(grid.shape, dtype))
+    assert float(deposit(grid, 0.025, 0.025, 1.0, into=jnp.zeros(grid.shape)).sum()) == pytest.approx(1.0)
+    # traced: unchecked, as documented
+    assert np.isnan(float(jax.jit(lambda x: height_at(grid, h, x, 0.0))(np.nan)))
