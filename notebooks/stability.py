@@ -7,7 +7,8 @@
 # %% [markdown]
 # # Where the methods fail
 #
-# (1) the stone's contact time step: beyond which the integrator creates energy in a contact;
+# (1) the stone's contact time step: beyond which the integrator creates energy in a contact, the tilt held,
+# and (1b) a light, thin stone free to turn, with each integrator;
 # (2) the water's time step: growth of ripples around the derived bound √3/2 · l/√(gH);
 # (3) gradients against the horizon: the derivatives of the default throw's x after n steps (the
 # distance, once the throw has ended within the n steps) with respect to its speed, tilt, attack and
@@ -20,7 +21,7 @@
 #
 # `python notebooks/stability.py` (full) or `JAXSKIP_QUICK=1 python notebooks/stability.py`; figures go to
 # `JAXSKIP_NOTEBOOK_OUT` (default `notebooks/figures/`). Run time on the 2-core development machine
-# (2026-12-07): full ~4.5–5.5 min, quick ~40 s (wall time; load moves it).
+# (2026-12-08, with section 1b): full ~7.5 min, quick ~55 s (wall time; load moves it).
 
 # %%
 import dataclasses
@@ -78,6 +79,50 @@ fail = [dts[gain[(50.0, i)] > 1.0].min() if (gain[(50.0, i)] > 1.0).any() else n
 print(f"default dt 2.5e-4 s is {fail[0] / 2.5e-4:.1f}x inside the euler failure step at 50 m/s")
 print("the free stone's contact-step estimate (contact_step_bound): "
       + ", ".join(f"{contact_step_bound(stone, water, v) * 1e3:.3g} ms at {v:g} m/s" for v in (12.0, 50.0)))
+
+# %% [markdown]
+# ## 1b. The free stone's contact step: Euler against RK4
+# A light, thin stone (a 5 cm disk 0.5 mm thick at 500 kg/m³) thrown at 40 m/s, free to turn: the water swings
+# its tilt at ω_θ, and `contact_step_bound` (1/ω_θ) is the estimate of the longest stable step. Peak mechanical
+# energy of random throws (tilt 5–45°, attack 0–20°, spin 0–40 rev/s) against the same throw at an eighth of the
+# estimate: Euler pumps the stone's wobble well inside the estimate, RK4 adds at most a few per cent up to it;
+# hence the warning's `STABLE_FRACTION` (a quarter for Euler, the whole for RK4).
+
+# %%
+import warnings  # noqa: E402
+
+from jaxskip import disk, simulate, steps_for  # noqa: E402
+from jaxskip.simulate import STABLE_FRACTION  # noqa: E402
+
+with warnings.catch_warnings():
+    warnings.simplefilter("ignore")          # (lighter than water: no buoyancy in the force laws, warned of)
+    thin = rigid_stone(disk(0.05, 0.0005), density=500.0)
+thin_bound = contact_step_bound(thin, water, 40.0)
+ratios = np.array([0.25, 1.0] if QUICK else [0.25, 0.5, 0.7, 1.0])
+n_thin = 3 if QUICK else 8
+rng = np.random.default_rng(0)
+thin_throws = [dict(speed=40.0, tilt=float(a), attack=float(b), spin=float(c)) for a, b, c in
+               zip(rng.uniform(5, 45, n_thin), rng.uniform(0, 20, n_thin), rng.uniform(0, 40, n_thin))]
+
+
+def thin_peaks(r, integrator, duration=0.3):
+    """Peak mechanical energy [J] of each thin-disk throw at dt = r * thin_bound."""
+    dt = float(r * thin_bound)
+    cfg = SimConfig(dt=dt, duration=duration, max_steps=steps_for(duration, dt), integrator=integrator)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")      # (the stability warning this section calibrates)
+        return np.array([simulate(Throw.from_degrees(**t), thin, config=cfg).energy()["total"].max()
+                         for t in thin_throws])
+
+
+energy_rise = {}
+for integrator in ("euler", "rk4"):
+    ref = thin_peaks(0.125, integrator)
+    energy_rise[integrator] = np.array([thin_peaks(r, integrator) / ref - 1.0 for r in ratios])   # (R, n)
+    print(f"thin disk at 40 m/s, {integrator:<5}: peak energy over the reference's at dt / estimate = "
+          + ", ".join(f"{r:g}: median {100 * np.median(e):+.1f} %, max {100 * e.max():+.1f} %"
+                      for r, e in zip(ratios, energy_rise[integrator]))
+          + f"; warned beyond {STABLE_FRACTION[integrator]:g} of the estimate ({thin_bound * 1e3:.3g} ms)")
 
 # %% [markdown]
 # ## 2. The water's time step
@@ -204,8 +249,10 @@ def few_points_note(a, n):
 
 
 CAP = 3.0  # panel (1): speed ratios above this (or non-finite) are drawn at the cap as upward triangles
-fig, axes = plt.subplots(2, 3, figsize=(16, 8.5))
-ax = axes.ravel()
+fig, axes = plt.subplots(2, 4, figsize=(21, 8.5))
+ax = list(axes.ravel())
+thin_ax = ax.pop(1)   # (1b) beside (1)
+ax[-1].set_axis_off()
 for k, ((speed, integrator), g) in enumerate(gain.items()):
     off = ~(g <= CAP)   # above the cap, or non-finite
     line, = ax[0].semilogx(dts, np.where(off, np.nan, g), "o-", label=f"{speed:g} m/s, {integrator}")
@@ -220,6 +267,18 @@ ax[0].set_ylim(top=CAP * 1.04)
 ax[0].xaxis.set_minor_formatter(NullFormatter())
 ax[0].set(xlabel="contact dt [s]", ylabel="speed out / in (first contact)", title="(1) stone time step")
 ax[0].legend(fontsize=7)
+for integrator, color in (("euler", "C0"), ("rk4", "C1")):
+    e = 100 * energy_rise[integrator]
+    thin_ax.plot(ratios, np.median(e, axis=1), "o-", color=color, label=f"{integrator}: median over {n_thin} throws")
+    thin_ax.plot(ratios, e.max(axis=1), "v--", color=color, label=f"{integrator}: largest")
+    thin_ax.axvline(STABLE_FRACTION[integrator], color=color, ls=":", lw=1.2,
+                    label=f"{integrator}: warned beyond {STABLE_FRACTION[integrator]:g} (STABLE_FRACTION)")
+thin_ax.axhline(0.0, color="k", lw=0.8)
+thin_ax.set(xlabel="contact dt / contact_step_bound", ylabel="peak energy above the reference's [%]",
+            title=f"(1b) free thin disk at 40 m/s: energy the step adds\n(reference: dt = 1/8 of the estimate, "
+                  f"{thin_bound * 1e3:.3g} ms)")
+thin_ax.legend(fontsize=7)
+few_points_note(thin_ax, len(ratios))
 ax[1].semilogy(factors, growth, "o-")
 ax[1].axvline(1.0, color="C3", ls="--", label="bound (refused beyond)")
 ax[1].set(xlabel="dt / bound", ylabel="ripple growth", title="(2) water time step")
