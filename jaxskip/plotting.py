@@ -302,7 +302,7 @@ def plot_water(result, stone=None, path=None, *, frame=None):
     ax.set_ylabel("y [m]")
     # (a review: the default frame's moment, mid-throw, said nothing of why it was drawn)
     why = f" of {float(frames[-1][0]):.3f} s, the most disturbed moment" if chosen else ""
-    ax.set_title(f"surface at t = {t:.3f} s{why} (±{lim:.2g} mm, clipped; shaded)", fontsize=10)
+    ax.set_title(f"surface at t = {t:.3f} s{why}\n(±{lim:.2g} mm, clipped; shaded)", fontsize=10)
     sm = plt.cm.ScalarMappable(cmap="RdBu_r", norm=plt.Normalize(-lim, lim))
     fig.colorbar(sm, ax=ax, label="elevation [mm]", shrink=0.8)
 
