@@ -512,6 +512,9 @@ def _with_flag(message: str, args) -> str:
         return f"{names[m.group(1)]} {m.group(2)}" if m.group(1) in names else m.group(0)
 
     message = re.sub(r"\b([a-z_]+)='([^'\s]*)'", flagged, message)
+    # and advice to take a setting below a value, "take dt <= 0.134 ms", names the flag (stop 48)
+    message = re.sub(r"\btake ([a-z_]+) (<=|>=)", lambda m: f"take {names[m.group(1)]} {m.group(2)}"
+                     if m.group(1) in names else m.group(0), message)
     word, space, rest = message.partition(" ")
     return f"{names[word]} {rest}" if space and word in names else message
 

@@ -216,8 +216,9 @@ DEFAULT_COEFFICIENTS = types.MappingProxyType({
 
 
 #: Rounding units of the speeds at a face's vertices within which ``velocity="passive"`` takes a vertex's normal
-#: speed n.w for 0 (:func:`_passive_triangles`): 1024, as :func:`jaxskip.clipping.surface_tolerance` for heights.
-GATE_ROUNDING = 1024.0
+#: speed n.w for 0 (:func:`_passive_triangles`): 32, a few times the rounding of a three-term dot product (1024, as
+#: for heights, threw away real speeds in float32: 1 mm/s at 8 m/s; the stop-48 diff review).
+GATE_ROUNDING = 32.0
 
 #: Largest lift or friction coefficient :func:`water_params` accepts (dimensionless).
 COEFFICIENT_MAX = 10.0

@@ -118,8 +118,9 @@ class SimConfig:
     (:class:`AccuracyWarning`)."""
     duration: float = 5.0
     """Simulated time limit [s], >= dt. No step passes it (the last flight jump or contact step is cut short to end
-    there), so a run ended by ``time_limit`` stops at ``duration`` exactly, whatever the throw: a state at a fixed
-    time, whose gradient has no end-time term."""
+    there), so a run ended by ``time_limit`` stops at ``duration`` exactly (as the step's float type holds it: in
+    float32 0.2 s is 0.20000000298), whatever the throw: a state at a fixed time, whose gradient has no end-time
+    term."""
     max_steps: int = 20250
     """Scan length: steps available for contacts and flights (outcome ``step_limit`` if too few).
     The default is :func:`steps_for` of the default ``duration`` and ``dt``: a stone may stay in the
@@ -319,9 +320,10 @@ def warn_if_unstable(config: "SimConfig", stone: RigidStone, water: WaterParams,
     limit = fraction * bound
     # (beyond ACCURATE_DT, warn_if_coarse already asks for dt <= ACCURATE_DT: enough where the limit is above it)
     if config.dt > limit and not (config.dt > ACCURATE_DT and limit >= ACCURATE_DT):
-        of = "" if fraction == 1.0 else f"{fraction:g} of "
-        rk4 = (f" (or integrator='rk4', held to the whole estimate: dt <= {bound * 1e3:.3g} ms)"
-               if config.integrator == "euler" and config.dt <= bound else "")
+        of = {1.0: "", 0.25: "a quarter of "}.get(fraction, f"{fraction:g} of ")
+        rk4_dt = min(bound, ACCURATE_DT)   # (never past the accuracy limit, which warns of its own)
+        rk4 = (f" (or integrator='rk4', held to the whole estimate: take dt <= {rk4_dt * 1e3:.3g} ms)"
+               if config.integrator == "euler" and config.dt <= rk4_dt else "")
         warnings.warn(f"dt = {config.dt * 1e3:g} ms is longer than {of}this stone's contact-step stability estimate "
                       f"for integrator='{config.integrator}', {limit * 1e3:.3g} ms ({bound * 1e3:.3g} ms at {fastest:.3g} "
                       f"m/s: contact_step_bound of the module jaxskip.simulate, and STABLE_FRACTION): a light, thin or "
@@ -912,8 +914,8 @@ def _closing_bound(config, stone, state: StoneState, max_slope: float):
 def _step_length(config, stone, water, state: StoneState, gap, wet, b, R, L):
     """Conservative-advancement step length [s] and whether the step is certainly dry.
 
-    ``b``: :func:`_closing_bound`. A jump never passes ``config.duration`` (the run ends there, by
-    ``time_limit``). With smooth clipping (``ForceModel(sharpness=κ)``) the water loads the stone from
+    ``b``: :func:`_closing_bound`. No step, jump or contact step, passes ``config.duration`` (the last is cut
+    to end there; the run ends by ``time_limit``). With smooth clipping (``ForceModel(sharpness=κ)``) the water loads the stone from
     ``1/(2κ)`` above the surface, so the jump aims that far above it. With the free attitude a jump is
     also held to :func:`rotation_cap` (``R`` (3, 3) and ``L`` (3,): the attitude and world angular momentum).
     """

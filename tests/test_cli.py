@@ -366,9 +366,10 @@ def test_coarse_dt_is_warned_about_on_stderr(capsys):
     lines = captured.err.strip().splitlines()
     assert len(lines) == 2 and lines[0].startswith("jaxskip: warning: --dt = 5 ms") and "unconverged" in lines[0]
     # (stop 48) and beyond the Euler step's stability limit, a quarter of the stone's estimate: 0.503 ms here
-    assert lines[1].startswith("jaxskip: warning: --dt = 5 ms is longer than 0.25 of this stone's contact-step "
+    assert lines[1].startswith("jaxskip: warning: --dt = 5 ms is longer than a quarter of this stone's contact-step "
                                "stability estimate for --integrator euler, 0.503 ms"), lines[1]
     assert "rk4" not in lines[1]   # (5 ms is beyond the whole estimate too: RK4 would not hold it either)
+    assert lines[1].endswith("take --dt <= 0.503 ms"), lines[1]   # (it read "take dt": a review)
     # (session 32) and the JSON says so too: a pipeline that keeps stdout alone kept the count as good
     assert json.loads(captured.out)["warnings"] == [{"category": c, "message": line.removeprefix("jaxskip: warning: ")}
                                                     for c, line in zip(("AccuracyWarning", "StabilityWarning"), lines)]

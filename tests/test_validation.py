@@ -199,7 +199,7 @@ def test_euler_is_held_to_a_quarter_of_the_stability_estimate():
         return simulate(throw, thin, config=SimConfig(dt=dt, duration=duration, max_steps=steps_for(duration, dt),
                                                       integrator=integrator))
 
-    with pytest.warns(StabilityWarning, match=r"longer than 0.25 of this stone's contact-step stability estimate for "
+    with pytest.warns(StabilityWarning, match=r"longer than a quarter of this stone's contact-step stability estimate for "
                                               r"integrator='euler', 0\.0155 ms .*\(or integrator='rk4', held"):
         wobble = run(0.8)
     with warnings.catch_warnings():
