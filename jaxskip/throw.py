@@ -173,22 +173,28 @@ def _check_as_stored(speed, tilt) -> None:
 _DEGREES = "SI units here: Throw.from_degrees takes degrees and rev/s"
 
 
+def _ranges(slack: float = 0.0) -> dict:
+    """Each field's valid range in SI units, ``{name: (low, high, low_open, high_open, unit)}``: the one table
+    :func:`_checked` (concrete values, by name) and :func:`in_domain` (traced ones) both read. ``slack`` widens
+    the bounds by that fraction of themselves (see :func:`_checked`)."""
+    pi2, w = math.pi / 2, 1.0 + slack
+    return {"speed": (0.0, MAX_SPEED * w, True, False, "m/s"), "tilt": (-pi2 * w, pi2 * w, True, True, "rad"),
+            "attack": (-pi2 * w, pi2 * w, False, False, "rad"),
+            "spin": (-MAX_SPIN * w, MAX_SPIN * w, False, False, "rad/s"),
+            "height": (0.0, MAX_HEIGHT * w, False, False, "m"),
+            "heading": (-MAX_HEADING * w, MAX_HEADING * w, False, False, "rad")}
+
+
 def _checked(speed, tilt, attack, spin, height, heading, slack: float = 0.0) -> dict:
     """The fields of a throw in SI units, checked elementwise (NumPy float64 arrays).
 
     ``slack``: relative widening of the closed bounds (and narrowing of nothing else), for values that
     were checked in float64 and then stored in float32: ``attack`` = -90 deg becomes
     float32(-π/2), one rounding beyond -π/2, and must still pass."""
-    pi2 = math.pi / 2
-    w = 1.0 + slack
-    return dict(
-        speed=check_array("speed", speed, 0.0, MAX_SPEED * w, unit="m/s", low_open=True),
-        tilt=check_array("tilt", tilt, -pi2 * w, pi2 * w, unit="rad", low_open=True, high_open=True, hint=_DEGREES),
-        attack=check_array("attack", attack, -pi2 * w, pi2 * w, unit="rad", hint=_DEGREES),
-        spin=check_array("spin", spin, -MAX_SPIN * w, MAX_SPIN * w, unit="rad/s", hint=_DEGREES),
-        height=check_array("height", height, 0.0, MAX_HEIGHT * w, unit="m"),
-        heading=check_array("heading", heading, -MAX_HEADING * w, MAX_HEADING * w, unit="rad"),
-    )
+    values = dict(speed=speed, tilt=tilt, attack=attack, spin=spin, height=height, heading=heading)
+    return {name: check_array(name, values[name], lo, hi, unit=unit, low_open=lo_open, high_open=hi_open,
+                              hint=_DEGREES if name in ("tilt", "attack", "spin") else "")
+            for name, (lo, hi, lo_open, hi_open, unit) in _ranges(slack).items()}
 
 
 def in_domain(throw: "Throw"):
@@ -197,12 +203,12 @@ def in_domain(throw: "Throw"):
     spin within ±:data:`MAX_SPIN`, height in [0, :data:`MAX_HEIGHT`], heading within ±:data:`MAX_HEADING`).
     Traceable: the check of a throw that cannot be checked before tracing (``optimize.make_objective`` scores a
     throw outside it NaN; :meth:`Throw.check` refuses a concrete one by name)."""
-    pi2 = math.pi / 2
-    fields = [jnp.asarray(getattr(throw, f.name)) for f in dataclasses.fields(throw)]
-    finite = jnp.all(jnp.stack([jnp.isfinite(a) for a in fields]), axis=0)
-    return (finite & (throw.speed > 0.0) & (throw.speed <= MAX_SPEED) & (jnp.abs(throw.tilt) < pi2)
-            & (jnp.abs(throw.attack) <= pi2) & (jnp.abs(throw.spin) <= MAX_SPIN) & (throw.height >= 0.0)
-            & (throw.height <= MAX_HEIGHT) & (jnp.abs(throw.heading) <= MAX_HEADING))
+    ok = True
+    for name, (lo, hi, lo_open, hi_open, _) in _ranges().items():
+        a = jnp.asarray(getattr(throw, name))
+        # (a NaN fails every comparison, so the range tests also refuse it)
+        ok = ok & jnp.isfinite(a) & ((a > lo) if lo_open else (a >= lo)) & ((a < hi) if hi_open else (a <= hi))
+    return ok
 
 
 def attitude(tilt, heading):
